@@ -1,0 +1,33 @@
+#pragma once
+// A scene: meshes and a node hierarchy, as the exporters write it (one glTF node per node).
+#include <dawnforge/core/mesh.hpp>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dawnforge {
+
+struct Node {
+    std::string name;
+    glm::vec3 translation{0.0f};
+    glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  // glm order (w, x, y, z); files use (x, y, z, w)
+    glm::vec3 scale{1.0f};
+    std::int32_t mesh = -1;                       // index into Scene::meshes, or -1
+    std::vector<std::uint32_t> children;          // indices into Scene::nodes
+    std::string extrasJson;                       // a JSON object for glTF "extras", or empty
+};
+
+struct Scene {
+    std::vector<Mesh> meshes;
+    std::vector<Node> nodes;
+    std::vector<std::uint32_t> roots;  // nodes without a parent, in order
+    std::string extrasJson;            // a JSON object for the scene's "extras", or empty
+
+    // Adds a mesh and a root node that shows it; returns the node's index.
+    std::uint32_t addMeshNode(Mesh mesh, glm::vec3 translation = glm::vec3(0.0f));
+};
+
+}  // namespace dawnforge

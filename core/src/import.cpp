@@ -1,0 +1,396 @@
+// Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf.
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/import.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <tiny_gltf.h>
+#include <tiny_obj_loader.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstring>
+#include <dawnforge/core/format.hpp>
+#include <fstream>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace dawnforge {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One line, however many lines a parser's message had.
+std::string oneLine(std::string text) {
+    std::replace(text.begin(), text.end(), '\n', ' ');
+    while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
+    return text;
+}
+
+// ---------------------------------------------------------------- OBJ
+
+// tinyobjloader reads an unparsable number as 0 and silently drops a face with a bad
+// vertex index, so the `v` and `f` lines are checked first, with line numbers.
+void checkObjLines(const fs::path& file, const std::string& name) {
+    std::ifstream in(file, std::ios::binary);
+    std::string line;
+    std::size_t lineNo = 0;
+    long long vertices = 0;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        std::istringstream tokens(line);
+        std::string keyword;
+        tokens >> keyword;
+        if (keyword == "v") {
+            for (int k = 0; k < 3; ++k) {
+                std::string t;
+                if (!(tokens >> t))
+                    throw InputError(format("{}: line {}: a vertex needs three coordinates", name, lineNo));
+                char* end = nullptr;
+                const double x = std::strtod(t.c_str(), &end);
+                if (end != t.c_str() + t.size())
+                    throw InputError(format("{}: line {}: '{}' is not a number", name, lineNo, t.substr(0, 32)));
+                if (!std::isfinite(x) || std::fabs(x) > std::numeric_limits<float>::max())
+                    throw InputError(format("{}: line {}: vertex {} has a non-finite coordinate ({})", name,
+                                            lineNo, vertices + 1, t.substr(0, 32)));
+            }
+            ++vertices;
+        } else if (keyword == "f") {
+            std::string t;
+            while (tokens >> t) {
+                char* end = nullptr;
+                const long long i = std::strtoll(t.c_str(), &end, 10);
+                if (end == t.c_str() || (*end != '\0' && *end != '/'))
+                    throw InputError(format("{}: line {}: '{}' is not a vertex reference", name, lineNo,
+                                            t.substr(0, 32)));
+                if (i == 0 || i > vertices || i < -vertices)
+                    throw InputError(format("{}: line {}: a face uses vertex {} but only {} vertices come before it",
+                                            name, lineNo, i, vertices));
+            }
+        }
+    }
+}
+
+Mesh loadObj(const fs::path& file, const std::string& name) {
+    checkObjLines(file, name);
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = file.parent_path().string();
+    tinyobj::ObjReader reader;
+    if (!reader.ParseFromFile(file.string(), config))
+        throw InputError(format("{}: not a readable OBJ file: {}", name, oneLine(reader.Error())));
+
+    const tinyobj::attrib_t& attrib = reader.GetAttrib();
+    const std::size_t positionCount = attrib.vertices.size() / 3;
+    const std::size_t normalCount = attrib.normals.size() / 3;
+    const std::size_t uvCount = attrib.texcoords.size() / 2;
+
+    Mesh mesh;
+    mesh.name = file.stem().string();
+    bool anyNormal = false, anyUv = false;
+    // OBJ indexes positions, normals and UVs separately: each distinct triple becomes one
+    // vertex, numbered in order of first use (deterministic).
+    std::map<std::array<int, 3>, std::uint32_t> vertexOf;
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
+            const std::size_t corners = shape.mesh.num_face_vertices[f];
+            if (corners != 3)  // points or lines after triangulation; not part of a surface
+            {
+                offset += corners;
+                continue;
+            }
+            for (std::size_t c = 0; c < 3; ++c) {
+                const tinyobj::index_t& idx = shape.mesh.indices[offset + c];
+                if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= positionCount)
+                    throw InputError(format("{}: face {} of '{}' uses vertex {} but the file has {} vertices",
+                                                 name, f + 1, shape.name, idx.vertex_index + 1, positionCount));
+                if (idx.normal_index >= 0 && std::size_t(idx.normal_index) >= normalCount)
+                    throw InputError(format("{}: face {} of '{}' uses normal {} but the file has {} normals",
+                                                 name, f + 1, shape.name, idx.normal_index + 1, normalCount));
+                if (idx.texcoord_index >= 0 && std::size_t(idx.texcoord_index) >= uvCount)
+                    throw InputError(format("{}: face {} of '{}' uses UV {} but the file has {} UVs", name,
+                                                 f + 1, shape.name, idx.texcoord_index + 1, uvCount));
+                const std::array<int, 3> key{idx.vertex_index, idx.normal_index, idx.texcoord_index};
+                auto [it, inserted] = vertexOf.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
+                if (inserted) {
+                    const float* p = &attrib.vertices[3 * std::size_t(key[0])];
+                    mesh.positions.emplace_back(p[0], p[1], p[2]);
+                    glm::vec3 n(0.0f);
+                    if (key[1] >= 0) {
+                        const float* q = &attrib.normals[3 * std::size_t(key[1])];
+                        n = {q[0], q[1], q[2]};
+                        anyNormal = true;
+                    }
+                    mesh.normals.push_back(n);
+                    glm::vec2 uv(0.0f);
+                    if (key[2] >= 0) {
+                        const float* q = &attrib.texcoords[2 * std::size_t(key[2])];
+                        uv = {q[0], q[1]};
+                        anyUv = true;
+                    }
+                    mesh.uv0.push_back(uv);
+                }
+                mesh.indices.push_back(it->second);
+            }
+            offset += corners;
+        }
+    }
+    if (!anyNormal) mesh.normals.clear();
+    if (!anyUv) mesh.uv0.clear();
+    return mesh;
+}
+
+// ---------------------------------------------------------------- glTF
+
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+               void*) {
+    return true;  // geometry only: images are neither decoded nor needed
+}
+
+int componentCount(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR: return 1;
+        case TINYGLTF_TYPE_VEC2: return 2;
+        case TINYGLTF_TYPE_VEC3: return 3;
+        case TINYGLTF_TYPE_VEC4: return 4;
+        default: return 0;
+    }
+}
+
+int componentSize(int componentType) {
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+        default: return 0;
+    }
+}
+
+// Reads an accessor as doubles (count × components), checking every bound, with the
+// glTF rules for normalized integers.
+std::vector<double> readAccessor(const tinygltf::Model& model, int index, const std::string& source,
+                                 std::string_view what) {
+    if (index < 0 || std::size_t(index) >= model.accessors.size())
+        throw InputError(format("{}: {} refers to accessor {} which does not exist", source, what, index));
+    const tinygltf::Accessor& a = model.accessors[std::size_t(index)];
+    const int components = componentCount(a.type);
+    const int size = componentSize(a.componentType);
+    if (components == 0 || size == 0)
+        throw InputError(format("{}: accessor {} ({}) has an unsupported type", source, index, what));
+    if (a.sparse.isSparse)
+        throw InputError(format("{}: accessor {} ({}) is sparse, which is not supported", source, index, what));
+    std::vector<double> out(a.count * std::size_t(components), 0.0);
+    if (a.bufferView < 0) return out;  // all zeros, as the spec says
+    if (std::size_t(a.bufferView) >= model.bufferViews.size())
+        throw InputError(format("{}: accessor {} refers to a missing bufferView", source, index));
+    const tinygltf::BufferView& view = model.bufferViews[std::size_t(a.bufferView)];
+    if (view.buffer < 0 || std::size_t(view.buffer) >= model.buffers.size())
+        throw InputError(format("{}: bufferView {} refers to a missing buffer", source, a.bufferView));
+    const std::vector<unsigned char>& data = model.buffers[std::size_t(view.buffer)].data;
+    const std::size_t element = std::size_t(size) * std::size_t(components);
+    const std::size_t stride = view.byteStride ? view.byteStride : element;
+    const std::size_t viewEnd = view.byteOffset + view.byteLength;
+    if (viewEnd > data.size() || view.byteOffset > data.size())
+        throw InputError(format("{}: bufferView {} runs past the end of its buffer", source, a.bufferView));
+    if (a.count > 0 && (a.byteOffset + stride * (a.count - 1) + element > view.byteLength || stride < element))
+        throw InputError(format("{}: accessor {} ({}) runs past the end of its bufferView", source, index, what));
+    const unsigned char* base = data.data() + view.byteOffset + a.byteOffset;
+    for (std::size_t i = 0; i < a.count; ++i) {
+        const unsigned char* e = base + i * stride;
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = e + std::size_t(c) * std::size_t(size);
+            double v = 0.0;
+            switch (a.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); v = f; break; }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; break; }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                    std::uint16_t u; std::memcpy(&u, p, 2);
+                    v = a.normalized ? u / 65535.0 : u; break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                    std::int16_t s; std::memcpy(&s, p, 2);
+                    v = a.normalized ? std::max(s / 32767.0, -1.0) : s; break;
+                }
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = a.normalized ? *p / 255.0 : *p; break;
+                case TINYGLTF_COMPONENT_TYPE_BYTE: {
+                    const auto s = static_cast<std::int8_t>(*p);
+                    v = a.normalized ? std::max(s / 127.0, -1.0) : s; break;
+                }
+            }
+            out[i * std::size_t(components) + std::size_t(c)] = v;
+        }
+    }
+    return out;
+}
+
+int accessorComponents(const tinygltf::Model& model, int index) {
+    return componentCount(model.accessors[std::size_t(index)].type);
+}
+
+Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& source) {
+    Mesh mesh;
+    const auto position = prim.attributes.find("POSITION");
+    if (position == prim.attributes.end()) return mesh;
+    const std::vector<double> p = readAccessor(model, position->second, source, "POSITION");
+    if (accessorComponents(model, position->second) != 3)
+        throw InputError(format("{}: POSITION must have three components", source));
+    const std::size_t n = p.size() / 3;
+    for (std::size_t i = 0; i < n; ++i)
+        mesh.positions.emplace_back(float(p[3 * i]), float(p[3 * i + 1]), float(p[3 * i + 2]));
+
+    auto vecAttribute = [&](const char* semantic, int wanted) -> std::vector<double> {
+        const auto it = prim.attributes.find(semantic);
+        if (it == prim.attributes.end()) return {};
+        std::vector<double> v = readAccessor(model, it->second, source, semantic);
+        const int c = accessorComponents(model, it->second);
+        if ((wanted > 0 && c != wanted) || v.size() / std::size_t(c) != n)
+            throw InputError(format("{}: attribute {} does not match POSITION", source, semantic));
+        return v;
+    };
+    if (auto v = vecAttribute("NORMAL", 3); !v.empty())
+        for (std::size_t i = 0; i < n; ++i) mesh.normals.emplace_back(float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2]));
+    if (auto v = vecAttribute("TEXCOORD_0", 2); !v.empty())
+        for (std::size_t i = 0; i < n; ++i) mesh.uv0.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
+    if (auto v = vecAttribute("TEXCOORD_1", 2); !v.empty())
+        for (std::size_t i = 0; i < n; ++i) mesh.uv1.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
+    if (auto v = vecAttribute("COLOR_0", 0); !v.empty()) {
+        // Material IDs are read from COLOR_0 only when it is binary (every channel 0 or 1).
+        const std::size_t c = v.size() / n;
+        if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; }))
+            for (std::size_t i = 0; i < n; ++i)
+                mesh.materialIds.push_back(colorToMaterialId(
+                    glm::vec4(float(v[c * i]), float(v[c * i + 1]), float(v[c * i + 2]), c == 4 ? float(v[c * i + 3]) : 0.0f)));
+    }
+    if (auto v = vecAttribute("_PIECE_ID", 1); !v.empty())
+        for (double x : v) mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
+
+    std::vector<std::uint32_t> order;
+    if (prim.indices >= 0) {
+        for (double x : readAccessor(model, prim.indices, source, "indices")) {
+            if (x >= double(n))
+                throw InputError(format("{}: an index ({}) is out of range for {} vertices", source, x, n));
+            order.push_back(static_cast<std::uint32_t>(x));
+        }
+    } else {
+        for (std::size_t i = 0; i < n; ++i) order.push_back(static_cast<std::uint32_t>(i));
+    }
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        order.resize(order.size() - order.size() % 3);
+        mesh.indices = std::move(order);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (std::size_t i = 2; i < order.size(); ++i) {
+            const bool even = i % 2 == 0;
+            mesh.indices.insert(mesh.indices.end(),
+                                {order[i - 2], even ? order[i - 1] : order[i], even ? order[i] : order[i - 1]});
+        }
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        for (std::size_t i = 2; i < order.size(); ++i)
+            mesh.indices.insert(mesh.indices.end(), {order[0], order[i - 1], order[i]});
+    }  // points and lines are not surfaces: skipped
+    return mesh;
+}
+
+glm::mat4 localMatrix(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        glm::dmat4 m = glm::make_mat4(node.matrix.data());
+        return glm::mat4(m);
+    }
+    glm::dmat4 m(1.0);
+    if (node.translation.size() == 3)
+        m = glm::translate(m, glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+    if (node.rotation.size() == 4)
+        m *= glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+    if (node.scale.size() == 3) m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+    return glm::mat4(m);
+}
+
+void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, Mesh& out,
+             std::vector<bool>& visited, const std::string& source) {
+    if (index < 0 || std::size_t(index) >= model.nodes.size())
+        throw InputError(format("{}: node {} does not exist", source, index));
+    if (visited[std::size_t(index)])
+        throw InputError(format("{}: node {} appears twice in the hierarchy (a cycle?)", source, index));
+    visited[std::size_t(index)] = true;
+    const tinygltf::Node& node = model.nodes[std::size_t(index)];
+    const glm::mat4 world = parent * localMatrix(node);
+    if (node.mesh >= 0) {
+        if (std::size_t(node.mesh) >= model.meshes.size())
+            throw InputError(format("{}: node {} refers to mesh {} which does not exist", source, index, node.mesh));
+        for (const tinygltf::Primitive& prim : model.meshes[std::size_t(node.mesh)].primitives)
+            appendMesh(out, readPrimitive(model, prim, source), world);
+    }
+    for (int child : node.children) addNode(model, child, world, out, visited, source);
+}
+
+Mesh loadGltf(const fs::path& file, const std::string& name) {
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(skipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    char magic[4] = {};
+    std::ifstream(file, std::ios::binary).read(magic, 4);
+    const bool binary = std::memcmp(magic, "glTF", 4) == 0;
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, file.string())
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, file.string());
+    if (!ok) throw InputError(format("{}: not a readable glTF file: {}", name, oneLine(err)));
+
+    Mesh mesh;
+    mesh.name = file.stem().string();
+    std::vector<bool> visited(model.nodes.size(), false);
+    std::vector<int> roots;
+    if (!model.scenes.empty()) {
+        const std::size_t s = model.defaultScene >= 0 ? std::size_t(model.defaultScene) : 0;
+        if (s >= model.scenes.size()) throw InputError(format("{}: the default scene does not exist", name));
+        roots = model.scenes[s].nodes;
+    } else {  // no scene: every node that is nobody's child
+        std::vector<bool> isChild(model.nodes.size(), false);
+        for (const tinygltf::Node& node : model.nodes)
+            for (int c : node.children)
+                if (c >= 0 && std::size_t(c) < isChild.size()) isChild[std::size_t(c)] = true;
+        for (std::size_t i = 0; i < model.nodes.size(); ++i)
+            if (!isChild[i]) roots.push_back(int(i));
+    }
+    for (int root : roots) addNode(model, root, glm::mat4(1.0f), mesh, visited, name);
+    return mesh;
+}
+
+std::string lowerExtension(const fs::path& file) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+}  // namespace
+
+Mesh loadMesh(const fs::path& file) {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw InputError(format("{}: no such file", name));
+    if (fs::is_directory(file, ec)) throw InputError(format("{}: is a folder, not a mesh file", name));
+    if (fs::file_size(file, ec) == 0 || ec) throw InputError(format("{}: the file is empty", name));
+    if (!std::ifstream(file)) throw InputError(format("{}: cannot be read", name));
+    const std::string ext = lowerExtension(file);
+    Mesh mesh;
+    if (ext == ".obj")
+        mesh = loadObj(file, name);
+    else if (ext == ".gltf" || ext == ".glb")
+        mesh = loadGltf(file, name);
+    else
+        throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf or .glb)", name, ext));
+    validateMeshData(mesh, name);
+    return mesh;
+}
+
+}  // namespace dawnforge
