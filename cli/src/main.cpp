@@ -1,0 +1,101 @@
+// dawnforge: the command line. Argument parsing (CLI11) and error reporting only:
+// bad input -> one line on stderr, exit 2; an internal failure -> exit 1.
+#include "commands.hpp"
+
+#include <dawnforge/core/error.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct PlannedCommand {
+    const char* name;
+    const char* summary;
+};
+
+// Commands of ARCHITECTURE.md that later work builds; they are listed so --help shows
+// the whole tool, and they say plainly that they are not built yet.
+constexpr PlannedCommand kPlanned[] = {
+    {"city", "Generate a city district: DIR/city.glb, DIR/city.json (not built yet)"},
+    {"fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json (not built yet)"},
+    {"simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin (not built yet)"},
+    {"vat", "Bake a simulation into vertex animation textures (EXR) (not built yet)"},
+    {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
+    {"render", "Render a scene headless to PNG (not built yet)"},
+    {"view", "Show a scene in a window (not built yet)"},
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace dawnforge;
+    CLI::App app{"dawnforge: city generation, Voronoi fracture, rigid-body destruction baked into VATs, "
+                 "and a mobile-style renderer.",
+                 "dawnforge"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string(DAWNFORGE_VERSION));
+    cli::CommonOptions common;
+    app.add_flag("-q,--quiet", common.quiet, "No progress on stderr");
+
+    cli::InspectOptions inspect;
+    CLI::App* inspectCmd = app.add_subcommand(
+        "inspect", "Report on a mesh (OBJ, glTF, GLB) as JSON on stdout: triangles, vertices, closed, manifold, "
+                   "self_intersecting, volume, bbox_min, bbox_max, ...");
+    inspectCmd->add_option("FILE", inspect.file, "Mesh file (.obj, .gltf, .glb)")->required();
+    inspectCmd->add_option("--repair", inspect.repairOutput,
+                           "Also write a repaired copy (GLB): duplicate points merged, degenerate triangles "
+                           "removed, orientation made consistent, borders stitched, holes filled");
+
+    cli::DemoOptions demo;
+    CLI::App* demoCmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
+    demoCmd->add_option("-o,--output", demo.outputDir, "Output folder")->required();
+    demoCmd->add_option("--floors", demo.floors, "Floors of the demo tower")
+        ->check(CLI::Range(1, 200))
+        ->capture_default_str();
+
+    std::vector<CLI::App*> planned;
+    for (const PlannedCommand& p : kPlanned) {
+        CLI::App* cmd = app.add_subcommand(p.name, p.summary);
+        cmd->allow_extras();
+        planned.push_back(cmd);
+    }
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::string where = "dawnforge";
+        for (const CLI::App* sub : app.get_subcommands()) where += " " + sub->get_name();
+        std::fprintf(stderr, "%s: %s (see '%s --help')\n", where.c_str(), e.what(), where.c_str());
+        return static_cast<int>(ExitCode::BadInput);
+    }
+
+    try {
+        if (inspectCmd->parsed()) return cli::runInspect(inspect, common);
+        if (demoCmd->parsed()) return cli::runDemo(demo, common);
+        for (CLI::App* cmd : planned)
+            if (cmd->parsed()) {
+                std::fprintf(stderr, "dawnforge %s: not built yet\n", cmd->get_name().c_str());
+                return static_cast<int>(ExitCode::BadInput);
+            }
+    } catch (const InputError& e) {
+        std::fprintf(stderr, "dawnforge: error: %s\n", e.what());
+        return static_cast<int>(ExitCode::BadInput);
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "dawnforge: cancelled\n");
+        return static_cast<int>(ExitCode::Internal);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "dawnforge: internal error: %s\n", e.what());
+        return static_cast<int>(ExitCode::Internal);
+    }
+    return static_cast<int>(ExitCode::Internal);
+}
