@@ -1,0 +1,100 @@
+#include "test_support.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/import.hpp>
+#include <dawnforge/core/primitives.hpp>
+#include <dawnforge/exporters/gltf.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+
+using namespace dawnforge;
+using dawnforge::test::TempDir;
+
+namespace {
+
+// A scene with every attribute, a hierarchy, extras, and one mesh too big for 16-bit indices.
+Scene fullScene() {
+    Scene scene;
+    Mesh box = makeBox({0, 0, 0}, {1, 1, 1}, 13);
+    box.uv1.assign(box.vertexCount(), glm::vec2(0.5f));
+    box.pieceIds.assign(box.vertexCount(), 3);
+    box.name = "box";
+    const std::uint32_t parent = scene.addMeshNode(box, {1, 2, 3});
+    scene.nodes[parent].extrasJson = R"({"piece": 3, "tags": ["a", "b"], "mass": 2.5})";
+    Mesh big = makeIcosphere(2.0f, 7);  // 163,842 vertices
+    big.name = "big";
+    scene.meshes.push_back(std::move(big));
+    Node child;
+    child.name = "child";
+    child.mesh = 1;
+    child.scale = glm::vec3(0.5f);
+    scene.nodes.push_back(child);
+    scene.nodes[parent].children.push_back(1);
+    scene.extrasJson = R"({"seed": 42})";
+    return scene;
+}
+
+nlohmann::json glbJson(const std::vector<std::byte>& glb) {
+    std::uint32_t length = 0;
+    std::memcpy(&length, glb.data() + 12, 4);
+    return nlohmann::json::parse(std::string(reinterpret_cast<const char*>(glb.data()) + 20, length));
+}
+
+}  // namespace
+
+TEST(Gltf, SameSceneSameBytes) {
+    EXPECT_EQ(encodeGlb(fullScene()), encodeGlb(fullScene()));
+}
+
+TEST(Gltf, WrittenFilePassesTheKhronosValidator) {
+    TempDir dir;
+    writeGlb(fullScene(), dir / "full.glb");
+    const test::RunResult v = test::validateGltf(dir / "full.glb");
+    EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
+    EXPECT_NE(v.out.find("0 errors"), std::string::npos) << v.out;
+}
+
+TEST(Gltf, LayoutFollowsTheConventions) {
+    const nlohmann::json j = glbJson(encodeGlb(fullScene()));
+    EXPECT_EQ(j["asset"]["version"], "2.0");
+    EXPECT_EQ(j["scenes"][0]["extras"]["seed"], 42);
+    EXPECT_EQ(j["scenes"][0]["nodes"].size(), 1u);  // the child is not a root
+    const nlohmann::json& node = j["nodes"][0];
+    EXPECT_EQ(node["name"], "box");
+    EXPECT_EQ(node["translation"], nlohmann::json({1.0, 2.0, 3.0}));
+    EXPECT_EQ(node["extras"]["tags"][1], "b");
+    EXPECT_EQ(node["children"][0], 1);
+    const nlohmann::json& attributes = j["meshes"][0]["primitives"][0]["attributes"];
+    for (const char* a : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "_PIECE_ID"})
+        EXPECT_TRUE(attributes.contains(a)) << a;
+    const nlohmann::json& color = j["accessors"][attributes["COLOR_0"].get<int>()];
+    EXPECT_EQ(color["componentType"], 5121);  // UNSIGNED_BYTE
+    EXPECT_EQ(color["normalized"], true);
+    EXPECT_EQ(color["type"], "VEC4");
+    const int bigIndices = j["meshes"][1]["primitives"][0]["indices"];
+    EXPECT_EQ(j["accessors"][bigIndices]["componentType"], 5125);  // UNSIGNED_INT above 65,535 vertices
+}
+
+TEST(Gltf, MaterialIdsSurviveTheRoundTrip) {
+    TempDir dir;
+    Scene scene;
+    Mesh m;
+    for (int id = 0; id < 16; ++id) {  // one triangle per material ID
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        m.positions.insert(m.positions.end(), {{float(id), 0, 0}, {float(id) + 1, 0, 0}, {float(id), 1, 0}});
+        m.materialIds.insert(m.materialIds.end(), 3, std::uint8_t(id));
+        m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
+    }
+    scene.addMeshNode(m);
+    writeGlb(scene, dir / "ids.glb");
+    EXPECT_EQ(loadMesh(dir / "ids.glb").materialIds, m.materialIds);
+}
+
+TEST(Gltf, UnwritableOutputLeavesNothing) {
+    TempDir dir;
+    EXPECT_THROW(writeGlb(fullScene(), dir / "missing" / "x.glb"), InputError);
+    EXPECT_TRUE(dir.entries().empty());
+}

@@ -1,0 +1,118 @@
+#include "test_support.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace dawnforge::test {
+
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+    std::string pattern = (fs::temp_directory_path() / "dawnforge-test-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+}
+
+TempDir::~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+}
+
+std::vector<std::string> TempDir::entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+fs::path dataFile(const std::string& name) { return fs::path(DAWNFORGE_TEST_DATA) / name; }
+
+std::string readText(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::vector<unsigned char> readBytes(const fs::path& file) {
+    const std::string s = readText(file);
+    return {s.begin(), s.end()};
+}
+
+void writeText(const fs::path& file, const std::string& text) {
+    std::ofstream(file, std::ios::binary) << text;
+}
+
+void writeObj(const fs::path& file, const Mesh& mesh) {
+    std::ofstream out(file);
+    char line[128];
+    for (const glm::vec3& p : mesh.positions) {
+        std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+        out << line;
+    }
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        out << "f " << mesh.indices[3 * t] + 1 << ' ' << mesh.indices[3 * t + 1] + 1 << ' '
+            << mesh.indices[3 * t + 2] + 1 << '\n';
+}
+
+RunResult run(const std::string& program, const std::vector<std::string>& args) {
+    TempDir tmp;
+    const std::string outFile = (tmp / "stdout").string(), errFile = (tmp / "stderr").string();
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, outFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::vector<std::string> argvStrings{program};
+    argvStrings.insert(argvStrings.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& s : argvStrings) argv.push_back(s.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) throw std::runtime_error("cannot start " + program);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    RunResult r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = readText(outFile);
+    r.err = readText(errFile);
+    return r;
+}
+
+RunResult runDawnforge(const std::vector<std::string>& args) { return run(DAWNFORGE_EXE, args); }
+
+RunResult validateGltf(const fs::path& file) {
+    return run(DAWNFORGE_NODE, {DAWNFORGE_GLTF_VALIDATOR, file.string()});
+}
+
+std::size_t lineCount(const std::string& text) {
+    if (text.empty()) return 0;
+    std::size_t n = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    return text.back() == '\n' ? n : n + 1;
+}
+
+double referenceVolume(const Mesh& mesh) {
+    long double v = 0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::vec3 &a = mesh.positions[mesh.indices[3 * t]], &b = mesh.positions[mesh.indices[3 * t + 1]],
+                        &c = mesh.positions[mesh.indices[3 * t + 2]];
+        const long double ax = a.x, ay = a.y, az = a.z, bx = b.x, by = b.y, bz = b.z, cx = c.x, cy = c.y, cz = c.z;
+        v += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    }
+    return static_cast<double>(v / 6.0L);
+}
+
+}  // namespace dawnforge::test

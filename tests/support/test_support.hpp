@@ -1,0 +1,54 @@
+#pragma once
+// Helpers shared by the test executables: temporary folders, OBJ fixtures, running the
+// dawnforge executable and the Khronos glTF-Validator.
+#include <dawnforge/core/mesh.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace dawnforge::test {
+
+// A fresh folder under the system temp folder, removed with its contents at scope end.
+class TempDir {
+public:
+    TempDir();
+    ~TempDir();
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+    std::vector<std::string> entries() const;  // file names in the folder, sorted
+
+private:
+    std::filesystem::path path_;
+};
+
+std::filesystem::path dataFile(const std::string& name);  // tests/data/<name>
+std::string readText(const std::filesystem::path& file);
+std::vector<unsigned char> readBytes(const std::filesystem::path& file);
+void writeText(const std::filesystem::path& file, const std::string& text);
+
+// Writes positions and triangles as an OBJ file (%.9g: floats round-trip exactly).
+void writeObj(const std::filesystem::path& file, const Mesh& mesh);
+
+struct RunResult {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+// Runs `program args...` with stdin closed and captures its output.
+RunResult run(const std::string& program, const std::vector<std::string>& args);
+// Runs the dawnforge executable under test.
+RunResult runDawnforge(const std::vector<std::string>& args);
+// Runs the Khronos glTF-Validator (tools/gltf-validator) over one file.
+RunResult validateGltf(const std::filesystem::path& file);
+
+// Lines in a text (a trailing newline does not start another line).
+std::size_t lineCount(const std::string& text);
+
+// Signed volume of a closed mesh by the divergence theorem, in long double: an
+// independent reference for the CGAL-based inspection.
+double referenceVolume(const Mesh& mesh);
+
+}  // namespace dawnforge::test
