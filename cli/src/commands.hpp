@@ -2,7 +2,9 @@
 // The commands of the dawnforge executable: each parses nothing and computes nothing of
 // its own; it wires the stages of the libraries together (ARCHITECTURE.md, cli/).
 #include <filesystem>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace dawnforge::cli {
 
@@ -15,6 +17,25 @@ struct InspectOptions {
     std::filesystem::path repairOutput;  // empty: no repair
 };
 int runInspect(const InspectOptions& options, const CommonOptions& common);
+
+struct FractureOptions {
+    std::filesystem::path file;
+    std::filesystem::path outputDir;
+    std::filesystem::path pointsFile;  // empty: sample seeds
+    int pieces = 50;
+    std::uint64_t seed = 1;
+    std::vector<double> impact;        // empty, or x, y, z
+    double radius = 1.0;
+    double density = 2400.0;
+    int interiorMaterial = 15;
+    double uvScale = 1.0;
+    double minVolume = 0.0;
+    int levels = 0;
+    int levelPieces = 8;
+    bool force = false;
+    bool repair = false;
+};
+int runFracture(const FractureOptions& options, const CommonOptions& common);
 
 struct DemoOptions {
     std::filesystem::path outputDir;

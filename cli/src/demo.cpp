@@ -35,7 +35,7 @@ int runDemo(const DemoOptions& options, const CommonOptions&) {
         std::printf("  %-8s %6zu triangles, closed %s, manifold %s, volume %.3f m^3\n", m.name.c_str(), r.triangles,
                     r.closed ? "yes" : "no", r.manifold ? "yes" : "no", r.volume.value_or(0.0));
     }
-    std::printf("not built yet: city, fracture, simulate, vat, bake, render\n");
+    std::printf("not built yet: city, simulate, vat, bake, render\n");
     return 0;
 }
 

@@ -5,8 +5,10 @@
 #include <dawnforge/core/error.hpp>
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +23,6 @@ struct PlannedCommand {
 // the whole tool, and they say plainly that they are not built yet.
 constexpr PlannedCommand kPlanned[] = {
     {"city", "Generate a city district: DIR/city.glb, DIR/city.json (not built yet)"},
-    {"fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json (not built yet)"},
     {"simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin (not built yet)"},
     {"vat", "Bake a simulation into vertex animation textures (EXR) (not built yet)"},
     {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string(DAWNFORGE_VERSION));
     cli::CommonOptions common;
     app.add_flag("-q,--quiet", common.quiet, "No progress on stderr");
+    int threads = 0;
 
     cli::InspectOptions inspect;
     CLI::App* inspectCmd = app.add_subcommand(
@@ -49,6 +51,36 @@ int main(int argc, char** argv) {
     inspectCmd->add_option("--repair", inspect.repairOutput,
                            "Also write a repaired copy (GLB): duplicate points merged, degenerate triangles "
                            "removed, orientation made consistent, borders stitched, holes filled");
+
+    cli::FractureOptions fracture;
+    CLI::App* fractureCmd = app.add_subcommand(
+        "fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json");
+    fractureCmd->add_option("FILE", fracture.file, "Closed mesh (.obj, .gltf, .glb)")->required();
+    fractureCmd->add_option("-o,--output", fracture.outputDir, "Output folder")->required();
+    fractureCmd->add_option("--pieces", fracture.pieces, "Number of Voronoi cells (seeds), exact for uniform sampling")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    fractureCmd->add_option("--seed", fracture.seed, "Random seed")->capture_default_str();
+    fractureCmd->add_option("--impact", fracture.impact, "Cluster smaller pieces around this point X,Y,Z (m)")
+        ->delimiter(',')->expected(3);
+    fractureCmd->add_option("--radius", fracture.radius, "Impact radius (m)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    fractureCmd->add_option("--points", fracture.pointsFile, "Seed points file, one 'x y z' per line (instead of --pieces)");
+    fractureCmd->add_option("--density", fracture.density, "Density (kg/m^3)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    fractureCmd->add_option("--interior-material", fracture.interiorMaterial, "Material ID of cut faces (0-15)")
+        ->check(CLI::Range(0, 15))->capture_default_str();
+    fractureCmd->add_option("--uv-scale", fracture.uvScale, "Metres per UV unit on cut faces")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    fractureCmd->add_option("--min-volume", fracture.minVolume, "Merge pieces below this volume (m^3) into their largest neighbour")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    fractureCmd->add_option("--levels", fracture.levels, "Fracture pieces within --radius of --impact again, this many times")
+        ->check(CLI::Range(0, 4))->capture_default_str();
+    fractureCmd->add_option("--level-pieces", fracture.levelPieces, "Pieces per re-fractured piece")
+        ->check(CLI::Range(2, 1000))->capture_default_str();
+    fractureCmd->add_flag("--force", fracture.force, "Allow more than 20,000 pieces");
+    fractureCmd->add_flag("--repair", fracture.repair, "Repair an open or inconsistent mesh first (and say so on stderr)");
+    fractureCmd->add_option("--threads", threads, "Worker threads (0: all cores); output does not depend on it")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
 
     cli::DemoOptions demo;
     CLI::App* demoCmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
@@ -81,6 +113,9 @@ int main(int argc, char** argv) {
 
     try {
         if (inspectCmd->parsed()) return cli::runInspect(inspect, common);
+        std::optional<tbb::global_control> threadLimit;
+        if (threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        if (fractureCmd->parsed()) return cli::runFracture(fracture, common);
         if (demoCmd->parsed()) return cli::runDemo(demo, common);
         for (CLI::App* cmd : planned)
             if (cmd->parsed()) {

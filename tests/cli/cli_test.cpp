@@ -36,7 +36,7 @@ TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
 }
 
 TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
-    for (const char* cmd : {"city", "fracture", "simulate", "vat", "bake", "render", "view"})
+    for (const char* cmd : {"city", "simulate", "vat", "bake", "render", "view"})
         expectBadInput({cmd, "-o", "x"}, "not built yet");
 }
 

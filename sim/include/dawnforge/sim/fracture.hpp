@@ -1,0 +1,71 @@
+#pragma once
+// Voronoi fracture of a closed mesh (CGAL inside; plain data outside).
+//
+// Seeds are sampled uniformly inside the volume (TetGen tetrahedralisation, tetrahedra
+// chosen by volume), optionally denser around an impact point, or given by the caller.
+// Each seed's Voronoi cell (bisector half-spaces of its Delaunay neighbours, clipped to
+// the mesh's bounding box) is intersected with the mesh by CGAL corefinement with exact
+// predicates. Cells are processed in a bounding-box hierarchy: each level intersects the
+// mesh with a box around a group of cells, so a cell meets only the part of the mesh
+// that can reach it. A cell that cuts the mesh into several parts gives several pieces.
+#include <dawnforge/core/mesh.hpp>
+#include <dawnforge/core/progress.hpp>
+#include <dawnforge/sim/mass_properties.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dawnforge {
+
+struct FractureSettings {
+    int pieces = 50;                            // seeds (Voronoi cells) for uniform sampling
+    std::uint64_t seed = 1;
+    std::optional<glm::dvec3> impact;           // cluster seeds around this point...
+    double impactRadius = 1.0;                  // ...within about this radius (m)
+    double impactDensity = 20.0;                // seeds near the impact are up to 1 + this many times denser
+    std::vector<glm::dvec3> points;             // caller's seeds: used instead of sampling when not empty
+    double density = 2400.0;                    // kg/m^3 (concrete)
+    std::uint8_t interiorMaterial = 15;         // material ID of cut faces
+    double interiorUvScale = 1.0;               // metres per UV unit on cut faces
+    double minVolume = 0.0;                     // pieces smaller than this merge into their largest neighbour
+    int levels = 0;                             // fracture pieces near the impact again, this many times
+    int levelPieces = 8;                        // pieces per re-fractured piece
+};
+
+struct FracturePiece {
+    std::string name;                           // piece_0000, piece_0001, ...
+    Mesh mesh;                                  // relative to the centre of mass (the pivot)
+    MassProperties mass;                        // centre of mass in world space
+    std::uint32_t cell = 0;                     // the seed (Voronoi cell) it came from
+    std::uint32_t level = 0;                    // 0, or the re-fracture level that made it
+    bool closed = false;
+};
+
+struct Bond {
+    std::uint32_t a = 0, b = 0;                 // piece indices, a < b
+    double area = 0.0;                          // shared cut-face area (m^2)
+    glm::dvec3 centroid{0.0};                   // of the shared face
+    glm::dvec3 normal{0.0};                     // unit, pointing from a to b
+};
+
+struct FractureResult {
+    std::vector<FracturePiece> pieces;
+    std::vector<Bond> bonds;
+    std::vector<glm::dvec3> seeds;              // level 0 seeds
+    double inputVolume = 0.0;
+    std::size_t inputTriangles = 0;
+    std::size_t merged = 0;                     // pieces merged away by minVolume
+};
+
+// Fractures `mesh`, which must be closed, manifold, outward-oriented and free of
+// self-intersections (throws InputError saying what is wrong otherwise, or when a piece
+// cannot be computed). Deterministic: the same mesh and settings give the same result
+// whatever the number of threads.
+FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress = noProgress);
+
+// Seeds only (the first stage of fractureMesh), for tests and tools.
+std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings);
+
+}  // namespace dawnforge

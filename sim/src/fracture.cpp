@@ -1,0 +1,881 @@
+// Voronoi fracture with CGAL: Delaunay neighbours -> bisector half-spaces ->
+// halfspace_intersection_3 (the cell) -> corefine_and_compute_intersection with the mesh.
+// Measured approach and pitfalls: ../shared/notes/measured.md (clipping plane by plane
+// was slower and less robust than one corefinement per cell).
+//
+// Every face carries an "origin" through the corefinements (a CGAL corefinement
+// visitor): the input triangle it came from, or the cell plane that cut it. Output
+// attributes are rebuilt from that: input triangles give their normals, UVs and
+// material by barycentric interpolation; cut faces get the plane's normal, planar UVs
+// in metres and the interior material; cut planes give the bond graph.
+//
+// This is the only translation unit of sim that includes CGAL.
+#include "tetrahedralize.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/seed.hpp>
+#include <dawnforge/core/validate.hpp>
+#include <dawnforge/sim/fracture.hpp>
+
+#include <CGAL/Convex_hull_3/dual/halfspace_intersection_3.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <numeric>
+#include <set>
+
+namespace dawnforge {
+
+namespace PMP = CGAL::Polygon_mesh_processing;
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Plane = K::Plane_3;
+using SM = CGAL::Surface_mesh<Point>;
+using Face = SM::Face_index;
+using Vertex = SM::Vertex_index;
+
+namespace {
+
+// Where a face came from: >= 0, an input triangle; kBoxOrigin, a hierarchy box (never
+// part of a piece); otherwise -1 - plane, for the plane-th cut plane of this fracture.
+using Origin = std::int64_t;
+constexpr Origin kBoxOrigin = std::numeric_limits<Origin>::min();
+constexpr const char* kOriginMap = "f:origin";
+
+SM::Property_map<Face, Origin> origins(SM& m) { return m.add_property_map<Face, Origin>(kOriginMap, kBoxOrigin).first; }
+SM::Property_map<Face, Origin> origins(const SM& m) { return m.property_map<Face, Origin>(kOriginMap).first; }
+
+// Carries face origins through a corefinement. Copies of the visitor share `current`.
+struct OriginVisitor : PMP::Corefinement::Default_visitor<SM> {
+    Origin* current;
+    explicit OriginVisitor(Origin* c) : current(c) {}
+    void before_subface_creations(Face f, SM& tm) { *current = origins(tm)[f]; }
+    void after_subface_created(Face f, SM& tm) { origins(tm)[f] = *current; }
+    void after_face_copy(Face src, const SM& tmSrc, Face tgt, SM& tmTgt) { origins(tmTgt)[tgt] = origins(tmSrc)[src]; }
+};
+
+glm::dvec3 toGlm(const Point& p) { return {p.x(), p.y(), p.z()}; }
+Point toPoint(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+
+// A cut plane: the half-space on its negative side is kept; its outward normal is the
+// plane's normal. `neighbour` is the global cell on the other side (-1 for a bounding plane).
+struct CutPlane {
+    Plane plane;
+    glm::dvec3 normal;  // unit
+    std::int64_t neighbour;
+};
+
+// Intersects `a` with `b` in place (a := a ∩ b), keeping face origins.
+void intersectInPlace(SM& a, SM& b, const char* what, std::size_t id) {
+    Origin current = 0;
+    OriginVisitor visitor(&current);
+    bool ok = false;
+    try {
+        ok = PMP::corefine_and_compute_intersection(a, b, a, CGAL::parameters::visitor(visitor));
+    } catch (const std::exception& e) {
+        throw InputError(format("fracture: CGAL failed on {} {}: {}", what, id, e.what()));
+    }
+    if (!ok)
+        throw InputError(format("fracture: the intersection with {} {} is not a manifold (a cut passes exactly "
+                                "through an edge or corner of the mesh); try another --seed",
+                                what, id));
+}
+
+// The convex polyhedron of half-spaces (negative sides), with face origins set to the
+// plane each face lies on. `inside` must be strictly inside.
+SM convexCell(const std::vector<CutPlane>& planes, Origin firstOrigin, const Point& inside, std::size_t id) {
+    std::vector<Plane> ps;
+    ps.reserve(planes.size());
+    for (const CutPlane& c : planes) ps.push_back(c.plane);
+    SM cell;
+    CGAL::halfspace_intersection_3(ps.begin(), ps.end(), cell, boost::make_optional(inside));
+    if (cell.number_of_faces() == 0 || !PMP::triangulate_faces(cell))
+        throw InputError(format("fracture: cell {} is degenerate (seeds too close together?)", id));
+    auto o = origins(cell);
+    for (Face f : cell.faces()) {
+        // The plane all three corners lie on (closest by summed distance).
+        double best = std::numeric_limits<double>::max();
+        std::size_t bestPlane = 0;
+        for (std::size_t k = 0; k < planes.size(); ++k) {
+            double d = 0;
+            for (Vertex v : CGAL::vertices_around_face(cell.halfedge(f), cell)) {
+                const Plane& p = planes[k].plane;
+                const Point& q = cell.point(v);
+                d += std::abs(p.a() * q.x() + p.b() * q.y() + p.c() * q.z() + p.d());
+            }
+            if (d < best) {
+                best = d;
+                bestPlane = k;
+            }
+        }
+        o[f] = firstOrigin == kBoxOrigin ? kBoxOrigin : firstOrigin - static_cast<Origin>(bestPlane);
+    }
+    return cell;
+}
+
+std::vector<CutPlane> boxPlanes(const CGAL::Bbox_3& b) {
+    auto plane = [](double a, double bb, double c, double d) {
+        return CutPlane{Plane(a, bb, c, d), glm::dvec3(a, bb, c), -1};
+    };
+    return {plane(1, 0, 0, -b.xmax()), plane(-1, 0, 0, b.xmin()), plane(0, 1, 0, -b.ymax()),
+            plane(0, -1, 0, b.ymin()), plane(0, 0, 1, -b.zmax()), plane(0, 0, -1, b.zmin())};
+}
+
+CGAL::Bbox_3 expanded(const CGAL::Bbox_3& b, double m) {
+    return {b.xmin() - m, b.ymin() - m, b.zmin() - m, b.xmax() + m, b.ymax() + m, b.zmax() + m};
+}
+
+// The input surface of one fracture call: welded positions and the triangles' attributes.
+struct Input {
+    const Mesh* mesh;
+    const std::vector<std::int64_t>* triangleKeys;  // per input triangle: neighbour cell of a cut face, or -1
+    SM sm;
+    CGAL::Bbox_3 bbox;
+};
+
+Input makeInput(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys) {
+    Input in{&mesh, triangleKeys, {}, {}};
+    const std::vector<std::uint32_t> canonical = weldByPosition(mesh.positions);
+    std::vector<Vertex> vertexOf(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (canonical[i] == i) {
+            const glm::vec3& p = mesh.positions[i];
+            vertexOf[i] = in.sm.add_vertex(Point(p.x, p.y, p.z));
+        } else {
+            vertexOf[i] = vertexOf[canonical[i]];
+        }
+    }
+    auto o = origins(in.sm);
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Vertex a = vertexOf[mesh.indices[3 * t]], b = vertexOf[mesh.indices[3 * t + 1]],
+                     c = vertexOf[mesh.indices[3 * t + 2]];
+        if (a == b || b == c || a == c) continue;
+        const Face f = in.sm.add_face(a, b, c);
+        if (f == SM::null_face()) throw InputError("fracture: the mesh is not manifold");
+        o[f] = static_cast<Origin>(t);
+    }
+    in.bbox = PMP::bbox(in.sm);
+    return in;
+}
+
+// ---------------------------------------------------------------- seeds
+
+glm::dvec3 samplePointInTetrahedron(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                                    const glm::dvec3& d, Rng& rng) {
+    // Rocchini & Cignoni, "Generating random points in a tetrahedron" (folding the cube).
+    double s = rng.uniform(), t = rng.uniform(), u = rng.uniform();
+    if (s + t > 1.0) {
+        s = 1.0 - s;
+        t = 1.0 - t;
+    }
+    if (t + u > 1.0) {
+        const double tmp = u;
+        u = 1.0 - s - t;
+        t = 1.0 - tmp;
+    } else if (s + t + u > 1.0) {
+        const double tmp = u;
+        u = s + t + u - 1.0;
+        s = 1.0 - t - tmp;
+    }
+    return a + s * (b - a) + t * (c - a) + u * (d - a);
+}
+
+std::vector<glm::dvec3> sampleSeeds(const Input& in, int count, std::uint64_t seed,
+                                    const std::optional<glm::dvec3>& impact, double radius, double boost) {
+    std::vector<glm::dvec3> points;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    for (Vertex v : in.sm.vertices()) points.push_back(toGlm(in.sm.point(v)));
+    for (Face f : in.sm.faces()) {
+        std::array<std::uint32_t, 3> t{};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(in.sm.halfedge(f), in.sm)) t[std::size_t(k++)] = std::uint32_t(v);
+        triangles.push_back(t);
+    }
+    const detail::Tetrahedra tets = detail::tetrahedralize(points, triangles);
+
+    // TetGen also fills closed cavities: keep the tetrahedra whose centroid is inside.
+    CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
+    std::vector<double> cumulative;
+    std::vector<std::size_t> kept;
+    double total = 0.0;
+    for (std::size_t t = 0; t < tets.tets.size(); ++t) {
+        const auto& q = tets.tets[t];
+        const glm::dvec3 &a = tets.points[q[0]], &b = tets.points[q[1]], &c = tets.points[q[2]], &d = tets.points[q[3]];
+        const double volume = std::abs(glm::dot(b - a, glm::cross(c - a, d - a))) / 6.0;
+        if (volume <= 0.0 || inside(toPoint(0.25 * (a + b + c + d))) != CGAL::ON_BOUNDED_SIDE) continue;
+        total += volume;
+        cumulative.push_back(total);
+        kept.push_back(t);
+    }
+    if (kept.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
+
+    Rng rng(deriveSeed(seed, "fracture-seeds"));
+    std::vector<glm::dvec3> seeds;
+    seeds.reserve(std::size_t(count));
+    const double maxWeight = 1.0 + (impact ? boost : 0.0);
+    for (std::size_t attempt = 0; int(seeds.size()) < count; ++attempt) {
+        if (attempt > 1000u * std::size_t(count) + 100000u)
+            throw InputError("fracture: could not place the seeds (is the impact far outside the mesh?)");
+        const double pick = rng.uniform(0.0, total);
+        const std::size_t i = std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
+        const auto& q = tets.tets[kept[std::min(i, kept.size() - 1)]];
+        const glm::dvec3 p =
+            samplePointInTetrahedron(tets.points[q[0]], tets.points[q[1]], tets.points[q[2]], tets.points[q[3]], rng);
+        if (impact) {  // rejection: density 1 + boost·exp(-(d/r)^2)
+            const double d = glm::length(p - *impact) / std::max(radius, 1e-9);
+            if (rng.uniform() * maxWeight > 1.0 + boost * std::exp(-d * d)) continue;
+        }
+        seeds.push_back(p);
+    }
+    return seeds;
+}
+
+// ---------------------------------------------------------------- cells
+
+using DelaunayVb = CGAL::Triangulation_vertex_base_with_info_3<std::uint32_t, K>;
+using DelaunayTds = CGAL::Triangulation_data_structure_3<DelaunayVb>;
+using Delaunay = CGAL::Delaunay_triangulation_3<K, DelaunayTds>;
+
+struct Cells {
+    std::vector<std::vector<CutPlane>> planes;  // per cell
+    std::vector<SM> meshes;
+    std::vector<CGAL::Bbox_3> boxes;
+};
+
+Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bounds, std::int64_t cellBase) {
+    const std::size_t n = seeds.size();
+    std::vector<std::vector<std::uint32_t>> neighbours(n);
+    if (n <= 8) {  // tiny or degenerate configurations: every other seed is a neighbour
+        for (std::uint32_t i = 0; i < n; ++i)
+            for (std::uint32_t j = 0; j < n; ++j)
+                if (i != j) neighbours[i].push_back(j);
+    } else {
+        std::vector<std::pair<Point, std::uint32_t>> points;
+        for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(toPoint(seeds[i]), i);
+        Delaunay dt(points.begin(), points.end());
+        if (dt.dimension() < 3 || dt.number_of_vertices() != n)
+            throw InputError("fracture: the seeds are coplanar or repeated");
+        for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+            std::vector<Delaunay::Vertex_handle> adjacent;
+            dt.finite_adjacent_vertices(v, std::back_inserter(adjacent));
+            for (const auto& w : adjacent) neighbours[v->info()].push_back(w->info());
+            std::sort(neighbours[v->info()].begin(), neighbours[v->info()].end());
+        }
+    }
+    Cells cells;
+    cells.planes.resize(n);
+    cells.meshes.resize(n);
+    cells.boxes.resize(n);
+    const std::vector<CutPlane> bounding = boxPlanes(bounds);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        std::vector<CutPlane>& planes = cells.planes[i];
+        for (std::uint32_t j : neighbours[i]) {
+            const glm::dvec3 normal = seeds[j] - seeds[i];
+            const double len = glm::length(normal);
+            if (len == 0.0) throw InputError(format("fracture: seeds {} and {} are at the same point", i, j));
+            const glm::dvec3 mid = 0.5 * (seeds[i] + seeds[j]);
+            planes.push_back({Plane(normal.x, normal.y, normal.z, -glm::dot(normal, mid)), normal / len,
+                              cellBase + std::int64_t(j)});
+        }
+        planes.insert(planes.end(), bounding.begin(), bounding.end());
+        cells.meshes[i] = convexCell(planes, -1, toPoint(seeds[i]), i);
+        cells.boxes[i] = PMP::bbox(cells.meshes[i]);
+    });
+    return cells;
+}
+
+// ---------------------------------------------------------------- the hierarchy
+
+struct Hierarchy {
+    const Cells& cells;
+    const std::vector<glm::dvec3>& seeds;
+    double margin;
+    std::vector<SM>& results;
+    const ProgressFn& progress;
+    std::atomic<std::size_t> done{0};
+    std::mutex progressMutex;
+    std::atomic<bool> cancelled{false};
+
+    void cellDone() {
+        const std::size_t d = ++done;
+        std::lock_guard lock(progressMutex);
+        if (!progress(double(d) / double(results.size()))) cancelled = true;
+    }
+
+    // The margin of a box at `depth` around its cells' bounding box. It shrinks with depth
+    // so that a child box never shares a plane with its parent box (the parent's cut faces
+    // have rounded corners: meeting them edge-on breaks corefinement), and stays above
+    // half the first margin so that every cell stays strictly inside every box.
+    double marginAt(int depth) const { return margin * (1.0 - std::min(depth, 32) / 64.0); }
+
+    // nodeMesh equals the mesh inside a region that strictly contains every cell in `ids`.
+    void process(const SM& nodeMesh, std::vector<std::uint32_t> ids, int depth = 0) {
+        if (cancelled) throw Cancelled();
+        if (nodeMesh.number_of_faces() == 0) {  // the region misses the mesh: no pieces here
+            for (std::size_t k = 0; k < ids.size(); ++k) cellDone();
+            return;
+        }
+        constexpr std::size_t kLeafCells = 3;
+        if (ids.size() <= kLeafCells) {
+            tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t k) {
+                const std::uint32_t id = ids[k];
+                SM piece = nodeMesh;
+                SM cell = cells.meshes[id];
+                intersectInPlace(piece, cell, "cell", id);
+                results[id] = std::move(piece);
+                cellDone();
+            });
+            return;
+        }
+        // Split the cells in two halves along the longest axis of their seeds.
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+        for (std::uint32_t id : ids) {
+            lo = glm::min(lo, seeds[id]);
+            hi = glm::max(hi, seeds[id]);
+        }
+        const glm::dvec3 extent = hi - lo;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        std::sort(ids.begin(), ids.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return seeds[a][axis] != seeds[b][axis] ? seeds[a][axis] < seeds[b][axis] : a < b;
+        });
+        const std::size_t half = ids.size() / 2;
+        std::vector<std::uint32_t> left(ids.begin(), ids.begin() + std::ptrdiff_t(half));
+        std::vector<std::uint32_t> right(ids.begin() + std::ptrdiff_t(half), ids.end());
+        tbb::parallel_invoke([&] { child(nodeMesh, std::move(left), depth + 1); },
+                             [&] { child(nodeMesh, std::move(right), depth + 1); });
+    }
+
+    void child(const SM& parentMesh, std::vector<std::uint32_t> ids, int depth) {
+        CGAL::Bbox_3 box = cells.boxes[ids[0]];
+        for (std::uint32_t id : ids) box += cells.boxes[id];
+        box = expanded(box, marginAt(depth));
+        const CGAL::Bbox_3 c = box;
+        SM boxMesh = convexCell(boxPlanes(c), kBoxOrigin,
+                                Point(0.5 * (c.xmin() + c.xmax()), 0.5 * (c.ymin() + c.ymax()), 0.5 * (c.zmin() + c.zmax())),
+                                ids[0]);
+        SM mesh = parentMesh;
+        intersectInPlace(mesh, boxMesh, "cell group of", ids[0]);
+        process(mesh, std::move(ids), depth);
+    }
+};
+
+// ---------------------------------------------------------------- pieces
+
+struct CutGroup {
+    double area = 0.0;
+    glm::dvec3 weightedCentroid{0.0};
+    glm::dvec3 normal{0.0};
+    CGAL::Bbox_3 box;
+};
+
+// A piece as one fracture call makes it: world-space mesh and its cut faces by neighbour.
+struct RawPiece {
+    Mesh mesh;                                   // world space
+    std::vector<glm::dvec3> worldPositions;      // per mesh vertex, unrounded
+    std::vector<std::int64_t> triangleKeys;      // per triangle: neighbour cell across a cut face, or -1
+    std::vector<glm::dvec3> points;              // double-precision corners for mass properties
+    std::vector<std::uint32_t> pointIndices;
+    std::set<std::int64_t> cells;                // global cells it occupies
+    std::map<std::int64_t, CutGroup> cuts;       // by neighbour cell
+    std::uint32_t level = 0;
+    MassProperties mass;
+};
+
+glm::dvec3 barycentric(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 v0 = b - a, v1 = c - a, v2 = p - a;
+    const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
+    const double d20 = glm::dot(v2, v0), d21 = glm::dot(v2, v1);
+    const double denom = d00 * d11 - d01 * d01;
+    if (denom == 0.0) return {1.0, 0.0, 0.0};
+    const double v = (d11 * d20 - d01 * d21) / denom, w = (d00 * d21 - d01 * d20) / denom;
+    return {1.0 - v - w, v, w};
+}
+
+// Two unit vectors spanning the plane with normal n, chosen the same way for every piece
+// so that cut-face UVs line up across neighbours.
+void planeBasis(const glm::dvec3& n, glm::dvec3& u, glm::dvec3& v) {
+    const glm::dvec3 a = std::abs(n.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    u = glm::normalize(glm::cross(a, n));
+    v = glm::cross(n, u);
+}
+
+struct Triangle {
+    std::array<Vertex, 3> v;
+    Origin origin;
+};
+
+// A piece's corners rounded to float, the precision of the files. CGAL may compute an
+// intersection point along another path in another run and land one ulp of a double
+// away; everything downstream (order, flips, mass properties) reads the rounded points.
+struct Snapped {
+    const SM& sm;
+    Point operator()(Vertex v) const {
+        const Point& p = sm.point(v);
+        return {double(float(p.x())), double(float(p.y())), double(float(p.z()))};
+    }
+};
+
+// A triangle's corners, rotated so that the lexicographically smallest comes first
+// (orientation kept): sorting by this orders triangles by geometry alone.
+std::array<double, 9> triangleKey(const Snapped& point, const std::array<Vertex, 3>& v) {
+    std::array<Point, 3> p{point(v[0]), point(v[1]), point(v[2])};
+    const std::size_t first = std::size_t(std::min_element(p.begin(), p.end()) - p.begin());
+    std::array<double, 9> key{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const Point& q = p[(first + i) % 3];
+        key[3 * i] = q.x();
+        key[3 * i + 1] = q.y();
+        key[3 * i + 2] = q.z();
+    }
+    return key;
+}
+
+// CGAL 5.5's corefinement triangulates a split face differently from run to run (the
+// result depends on memory addresses), though the vertices are the same. Each planar
+// group of triangles (one origin: the part of one input triangle, or of one cut plane)
+// is therefore brought to its constrained Delaunay triangulation by Lawson flips with
+// exact predicates, co-circular ties going to the diagonal with the smallest vertex:
+// that triangulation depends on the points and the group's boundary only.
+void canonicalTriangulation(const Snapped& point, std::vector<Triangle>& tris) {
+    using K2 = K;
+    std::map<Origin, std::vector<std::size_t>> groups;
+    for (std::size_t i = 0; i < tris.size(); ++i) groups[tris[i].origin].push_back(i);
+    for (auto& [origin, members] : groups) {
+        if (members.size() < 2) continue;
+        // Project on the plane of the group's largest normal component.
+        K::Vector_3 n(0, 0, 0);
+        for (std::size_t i : members)
+            n = n + CGAL::cross_product(point(tris[i].v[1]) - point(tris[i].v[0]),
+                                        point(tris[i].v[2]) - point(tris[i].v[0]));
+        const int axis = std::abs(n.x()) >= std::abs(n.y()) && std::abs(n.x()) >= std::abs(n.z()) ? 0
+                         : std::abs(n.y()) >= std::abs(n.z())                                    ? 1
+                                                                                                 : 2;
+        const bool flipSign = (axis == 0 ? n.x() : axis == 1 ? n.y() : n.z()) < 0;
+        auto project = [&](Vertex v) {
+            const Point& p = point(v);
+            const double a = axis == 0 ? p.y() : axis == 1 ? p.z() : p.x();
+            const double b = axis == 0 ? p.z() : axis == 1 ? p.x() : p.y();
+            return flipSign ? K2::Point_2(b, a) : K2::Point_2(a, b);  // keep counter-clockwise
+        };
+        auto before = [&](Vertex a, Vertex b) { return point(a) < point(b); };
+        // Directed edge -> (triangle, corner opposite to it).
+        std::map<std::pair<Vertex, Vertex>, std::pair<std::size_t, int>> edgeOf;
+        auto index = [&](std::size_t t) {
+            for (int k = 0; k < 3; ++k)
+                edgeOf[{tris[t].v[std::size_t(k)], tris[t].v[std::size_t((k + 1) % 3)]}] = {t, (k + 2) % 3};
+        };
+        auto unindex = [&](std::size_t t) {
+            for (int k = 0; k < 3; ++k) edgeOf.erase({tris[t].v[std::size_t(k)], tris[t].v[std::size_t((k + 1) % 3)]});
+        };
+        for (std::size_t t : members) index(t);
+        std::vector<std::pair<Vertex, Vertex>> stack;
+        for (const auto& [e, _] : edgeOf) stack.push_back(e);
+        std::size_t flips = 0;
+        const std::size_t maxFlips = 64 * members.size() * members.size() + 1000;
+        while (!stack.empty() && flips < maxFlips) {
+            const auto [a, b] = stack.back();
+            stack.pop_back();
+            const auto e1 = edgeOf.find({a, b}), e2 = edgeOf.find({b, a});
+            if (e1 == edgeOf.end() || e2 == edgeOf.end()) continue;  // a boundary edge: constrained
+            const std::size_t t1 = e1->second.first, t2 = e2->second.first;
+            const Vertex c = tris[t1].v[std::size_t(e1->second.second)], d = tris[t2].v[std::size_t(e2->second.second)];
+            const K2::Point_2 pa = project(a), pb = project(b), pc = project(c), pd = project(d);
+            if (CGAL::orientation(pa, pb, pc) != CGAL::LEFT_TURN || CGAL::orientation(pb, pa, pd) != CGAL::LEFT_TURN)
+                continue;
+            if (CGAL::orientation(pa, pd, pc) != CGAL::LEFT_TURN || CGAL::orientation(pd, pb, pc) != CGAL::LEFT_TURN)
+                continue;  // not strictly convex: the other diagonal would leave the quad
+            const CGAL::Oriented_side side = CGAL::side_of_oriented_circle(pa, pb, pc, pd);
+            const Vertex minOld = std::min(a, b, before), minNew = std::min(c, d, before);
+            const bool flip = side == CGAL::ON_POSITIVE_SIDE ||
+                              (side == CGAL::ON_ORIENTED_BOUNDARY && before(minNew, minOld));
+            if (!flip) continue;
+            unindex(t1);
+            unindex(t2);
+            tris[t1].v = {a, d, c};
+            tris[t2].v = {d, b, c};
+            index(t1);
+            index(t2);
+            ++flips;
+            stack.insert(stack.end(), {{a, d}, {d, b}, {b, c}, {c, a}});
+        }
+    }
+    std::vector<std::pair<std::array<double, 9>, Triangle>> keyed;
+    keyed.reserve(tris.size());
+    for (Triangle t : tris) {  // start each triangle at its smallest corner
+        const auto first = std::min_element(t.v.begin(), t.v.end(),
+                                            [&](Vertex a, Vertex b) { return point(a) < point(b); });
+        std::rotate(t.v.begin(), first, t.v.end());
+        keyed.emplace_back(triangleKey(point, t.v), t);
+    }
+    std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t i = 0; i < tris.size(); ++i) tris[i] = keyed[i].second;
+}
+
+RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input& in,
+                      const std::vector<CutPlane>& planes, std::int64_t ownCell, const FractureSettings& settings) {
+    RawPiece piece;
+    piece.cells.insert(ownCell);
+    const Mesh& src = *in.mesh;
+    const auto o = origins(sm);
+    struct Key {
+        std::uint32_t vertex;
+        std::array<float, 5> attributes;  // normal, uv
+        std::uint8_t material;
+        bool operator<(const Key& k) const {
+            return std::tie(vertex, attributes, material) < std::tie(k.vertex, k.attributes, k.material);
+        }
+    };
+    std::map<Key, std::uint32_t> vertexOf;
+    std::map<Vertex, std::uint32_t> pointOf;
+    piece.mesh.name = "piece";
+    std::vector<Triangle> tris;
+    tris.reserve(faces.size());
+    for (Face f : faces) {
+        Triangle t{{}, o[f]};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
+        tris.push_back(t);
+    }
+    const Snapped point{sm};
+    canonicalTriangulation(point, tris);
+    for (const Triangle& tri : tris) {
+        const Origin origin = tri.origin;
+        const std::array<Vertex, 3>& vs = tri.v;
+        std::array<glm::dvec3, 3> p{toGlm(point(vs[0])), toGlm(point(vs[1])), toGlm(point(vs[2]))};
+        for (const Vertex v : vs) {
+            auto [it, inserted] = pointOf.try_emplace(v, std::uint32_t(piece.points.size()));
+            if (inserted) piece.points.push_back(toGlm(point(v)));
+            piece.pointIndices.push_back(it->second);
+        }
+
+        std::array<glm::vec3, 3> normal{};
+        std::array<glm::vec2, 3> uv{};
+        std::uint8_t material = settings.interiorMaterial;
+        std::int64_t key = -1;
+        if (origin >= 0) {  // the input surface: interpolate the input triangle's attributes
+            const std::size_t t = std::size_t(origin);
+            const std::uint32_t i0 = src.indices[3 * t], i1 = src.indices[3 * t + 1], i2 = src.indices[3 * t + 2];
+            const glm::dvec3 a(src.positions[i0]), b(src.positions[i1]), c(src.positions[i2]);
+            const glm::dvec3 flat = glm::normalize(glm::cross(b - a, c - a));
+            material = src.materialIds.empty() ? 0 : src.materialIds[i0];
+            key = in.triangleKeys ? (*in.triangleKeys)[t] : -1;
+            for (std::size_t corner = 0; corner < 3; ++corner) {
+                const glm::dvec3 w = barycentric(p[corner], a, b, c);
+                normal[corner] = src.normals.empty()
+                                     ? glm::vec3(flat)
+                                     : glm::vec3(glm::normalize(w.x * glm::dvec3(src.normals[i0]) +
+                                                                w.y * glm::dvec3(src.normals[i1]) +
+                                                                w.z * glm::dvec3(src.normals[i2])));
+                if (!src.uv0.empty())
+                    uv[corner] = glm::vec2(w.x * glm::dvec2(src.uv0[i0]) + w.y * glm::dvec2(src.uv0[i1]) +
+                                           w.z * glm::dvec2(src.uv0[i2]));
+            }
+        } else if (origin != kBoxOrigin) {  // a cut face: flat, planar UVs in metres, interior material
+            const CutPlane& plane = planes[std::size_t(-1 - origin)];
+            glm::dvec3 u, v;
+            planeBasis(plane.normal, u, v);
+            for (std::size_t corner = 0; corner < 3; ++corner) {
+                normal[corner] = glm::vec3(plane.normal);
+                uv[corner] = glm::vec2(glm::dot(p[corner], u), glm::dot(p[corner], v)) / float(settings.interiorUvScale);
+            }
+            key = plane.neighbour;
+        }
+        if (key >= 0) {
+            CutGroup& g = piece.cuts[key];
+            const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+            g.area += area;
+            g.weightedCentroid += area * (p[0] + p[1] + p[2]) / 3.0;
+            g.normal = origin < 0 ? planes[std::size_t(-1 - origin)].normal
+                                  : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
+            for (const glm::dvec3& q : p) g.box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
+        }
+        piece.triangleKeys.push_back(key);
+        for (std::size_t corner = 0; corner < 3; ++corner) {
+            const Key vk{std::uint32_t(vs[corner]),
+                         {normal[corner].x, normal[corner].y, normal[corner].z, uv[corner].x, uv[corner].y},
+                         material};
+            auto [it, inserted] = vertexOf.try_emplace(vk, std::uint32_t(piece.mesh.positions.size()));
+            if (inserted) {
+                piece.mesh.positions.push_back(glm::vec3(p[corner]));
+                piece.worldPositions.push_back(p[corner]);
+                piece.mesh.normals.push_back(normal[corner]);
+                piece.mesh.uv0.push_back(uv[corner]);
+                piece.mesh.materialIds.push_back(material);
+            }
+            piece.mesh.indices.push_back(it->second);
+        }
+    }
+    piece.mass = computeMassProperties(piece.points, piece.pointIndices, settings.density);
+    return piece;
+}
+
+// Splits a cell's result into volumes (a cell can cut the mesh into several parts; a
+// part with a cavity is one volume with two shells).
+std::vector<std::vector<Face>> volumesOf(SM& sm) {
+    std::vector<std::vector<Face>> out;
+    if (sm.number_of_faces() == 0) return out;
+    auto component = sm.add_property_map<Face, std::size_t>("f:cc", 0).first;
+    const std::size_t shells = PMP::connected_components(sm, component);
+    if (shells > 1) {
+        auto volume = sm.add_property_map<Face, std::size_t>("f:volume", 0).first;
+        const std::size_t volumes = PMP::volume_connected_components(sm, volume);
+        out.resize(volumes);
+        for (Face f : sm.faces()) out[volume[f]].push_back(f);
+    } else {
+        out.emplace_back(sm.faces().begin(), sm.faces().end());
+    }
+    // Volumes in the order of their smallest corner: independent of CGAL's face order.
+    const Snapped point{sm};
+    auto smallest = [&](const std::vector<Face>& faces) {
+        Point m = point(sm.target(sm.halfedge(faces.front())));
+        for (Face f : faces)
+            for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) m = std::min(m, point(v));
+        return m;
+    };
+    std::sort(out.begin(), out.end(), [&](const auto& a, const auto& b) { return smallest(a) < smallest(b); });
+    return out;
+}
+
+struct Call {
+    std::vector<RawPiece> pieces;
+    std::vector<glm::dvec3> seeds;
+};
+
+// One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
+Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::vector<glm::dvec3> seeds,
+                  std::int64_t cellBase, const FractureSettings& settings, const ProgressFn& progress) {
+    Input in = makeInput(mesh, triangleKeys);
+    const CGAL::Bbox_3& b = in.bbox;
+    const double diagonal =
+        std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) + std::pow(b.zmax() - b.zmin(), 2));
+    const Cells cells = buildCells(seeds, expanded(b, 0.01 * diagonal + 1e-6), cellBase);
+
+    std::vector<SM> results(seeds.size());
+    Hierarchy hierarchy{cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
+    std::vector<std::uint32_t> all(seeds.size());
+    std::iota(all.begin(), all.end(), 0u);
+    hierarchy.process(in.sm, std::move(all));
+
+    // Extract pieces in cell order, volumes within a cell in CGAL's (deterministic) order.
+    std::vector<std::vector<RawPiece>> perCell(seeds.size());
+    tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
+        for (const std::vector<Face>& faces : volumesOf(results[i]))
+            perCell[i].push_back(extractPiece(results[i], faces, in, cells.planes[i], cellBase + std::int64_t(i), settings));
+        results[i] = SM();
+    });
+    Call call;
+    call.seeds = std::move(seeds);
+    for (auto& list : perCell)
+        for (RawPiece& p : list) call.pieces.push_back(std::move(p));
+    return call;
+}
+
+bool boxesTouch(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b, double tolerance) {
+    return CGAL::do_overlap(expanded(a, tolerance), b);
+}
+
+// Bonds from cut faces: piece p occupies cell i and has cut faces towards cell j; q
+// occupies j and has cut faces towards one of p's cells, where the two sets of faces meet.
+std::vector<Bond> buildBonds(const std::vector<RawPiece>& pieces, double tolerance) {
+    std::multimap<std::int64_t, std::uint32_t> piecesInCell;
+    for (std::uint32_t i = 0; i < pieces.size(); ++i)
+        for (std::int64_t c : pieces[i].cells) piecesInCell.emplace(c, i);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, Bond> bonds;
+    for (std::uint32_t p = 0; p < pieces.size(); ++p) {
+        for (const auto& [neighbourCell, group] : pieces[p].cuts) {
+            const auto range = piecesInCell.equal_range(neighbourCell);
+            for (auto it = range.first; it != range.second; ++it) {
+                const std::uint32_t q = it->second;
+                if (q == p) continue;
+                bool facing = false;
+                for (std::int64_t c : pieces[p].cells) {
+                    const auto g = pieces[q].cuts.find(c);
+                    if (g != pieces[q].cuts.end() && boxesTouch(group.box, g->second.box, tolerance)) facing = true;
+                }
+                if (!facing) continue;
+                const auto key = std::minmax(p, q);
+                Bond& bond = bonds[{key.first, key.second}];
+                bond.a = key.first;
+                bond.b = key.second;
+                if (p == bond.a) {  // a's side of the shared faces defines the bond
+                    bond.area += group.area;
+                    bond.centroid = (bond.centroid * (bond.area - group.area) + group.weightedCentroid) / bond.area;
+                    bond.normal = group.normal;
+                }
+            }
+        }
+    }
+    std::vector<Bond> out;
+    for (auto& [key, bond] : bonds)
+        if (bond.area > 0.0) out.push_back(bond);
+    return out;
+}
+
+void mergeInto(RawPiece& into, RawPiece&& part, double density) {
+    const auto base = std::uint32_t(into.mesh.positions.size());
+    const auto pointBase = std::uint32_t(into.points.size());
+    for (std::uint32_t i : part.mesh.indices) into.mesh.indices.push_back(base + i);
+    for (std::uint32_t i : part.pointIndices) into.pointIndices.push_back(pointBase + i);
+    auto concat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
+    concat(into.mesh.positions, part.mesh.positions);
+    concat(into.mesh.normals, part.mesh.normals);
+    concat(into.mesh.uv0, part.mesh.uv0);
+    concat(into.mesh.materialIds, part.mesh.materialIds);
+    concat(into.worldPositions, part.worldPositions);
+    concat(into.points, part.points);
+    concat(into.triangleKeys, part.triangleKeys);
+    into.cells.insert(part.cells.begin(), part.cells.end());
+    into.level = std::min(into.level, part.level);
+    for (auto& [cell, group] : part.cuts) {
+        CutGroup& g = into.cuts[cell];
+        g.area += group.area;
+        g.weightedCentroid += group.weightedCentroid;
+        g.normal = group.normal;
+        g.box += group.box;
+    }
+    for (std::int64_t cell : into.cells) into.cuts.erase(cell);  // no bond with itself
+    into.mass = computeMassProperties(into.points, into.pointIndices, density);
+}
+
+std::string pieceName(std::size_t i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "piece_%04zu", i);
+    return name;
+}
+
+double volumeOf(const Mesh& mesh) {
+    const std::vector<glm::dvec3> points(mesh.positions.begin(), mesh.positions.end());
+    return computeMassProperties(points, mesh.indices, 1.0).volume;
+}
+
+void checkInput(const Mesh& mesh) {
+    const MeshReport r = inspectMesh(mesh);
+    if (!r.closed)
+        throw InputError(format("the mesh is not closed ({} boundary edges, {} non-manifold edges); repair it with "
+                                "'dawnforge inspect FILE --repair OUT.glb'",
+                                r.boundaryEdges, r.nonManifoldEdges));
+    if (!r.manifold)
+        throw InputError(format("the mesh is not manifold ({} non-manifold vertices); repair it with 'dawnforge "
+                                "inspect FILE --repair OUT.glb'",
+                                r.nonManifoldVertices));
+    if (r.selfIntersecting) throw InputError("the mesh intersects itself; fracture needs a mesh that bounds one volume");
+    if (!r.consistentlyOriented || !r.outwardOriented)
+        throw InputError("the mesh is inside out or inconsistently oriented; repair it with 'dawnforge inspect FILE "
+                         "--repair OUT.glb'");
+    if (!r.volume || *r.volume <= 0.0) throw InputError("the mesh has no volume");
+}
+
+}  // namespace
+
+std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings) {
+    DAWNFORGE_ASSERT(settings.pieces > 0, "pieces must be positive");
+    const Input in = makeInput(mesh, nullptr);
+    return sampleSeeds(in, settings.pieces, settings.seed, settings.impact, settings.impactRadius,
+                       settings.impactDensity);
+}
+
+FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+    DAWNFORGE_ASSERT(settings.pieces > 0 || !settings.points.empty(), "pieces must be positive");
+    checkInput(mesh);
+    FractureResult result;
+    result.inputTriangles = mesh.triangleCount();
+
+    std::vector<glm::dvec3> seeds = settings.points.empty() ? sampleFractureSeeds(mesh, settings) : settings.points;
+    // Re-fracture levels each take a share of the progress bar.
+    const double share = 1.0 / double(1 + settings.levels);
+    Call top = fractureOnce(mesh, nullptr, std::move(seeds), 0, settings,
+                            [&](double f) { return progress(f * share); });
+    result.seeds = top.seeds;
+    std::vector<RawPiece> pieces = std::move(top.pieces);
+
+    std::int64_t nextCell = std::int64_t(result.seeds.size());
+    for (int level = 1; level <= settings.levels && settings.impact; ++level) {
+        std::vector<RawPiece> next;
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            RawPiece& p = pieces[i];
+            const bool near = glm::length(p.mass.centerOfMass - *settings.impact) <= settings.impactRadius;
+            if (!near || p.level != std::uint32_t(level - 1)) {
+                next.push_back(std::move(p));
+                continue;
+            }
+            FractureSettings sub = settings;
+            sub.pieces = settings.levelPieces;
+            sub.impact.reset();
+            sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
+            std::vector<glm::dvec3> subSeeds = sampleFractureSeeds(p.mesh, sub);
+            Call call = fractureOnce(p.mesh, &p.triangleKeys, std::move(subSeeds), nextCell, sub, noProgress);
+            nextCell += std::int64_t(call.seeds.size());
+            for (RawPiece& q : call.pieces) {
+                q.level = std::uint32_t(level);
+                next.push_back(std::move(q));
+            }
+        }
+        pieces = std::move(next);
+        if (!progress(share * (1 + level))) throw Cancelled();
+    }
+
+    // Pieces below the minimum volume join the neighbour they share most area with. The
+    // merged piece is both closed shells together: the faces between them stay (hidden
+    // inside), so each part stays watertight; only their bond disappears.
+    if (settings.minVolume > 0.0) {
+        for (;;) {
+            std::size_t smallest = pieces.size();
+            for (std::size_t i = 0; i < pieces.size(); ++i)
+                if (pieces[i].mass.volume < settings.minVolume &&
+                    (smallest == pieces.size() || pieces[i].mass.volume < pieces[smallest].mass.volume))
+                    smallest = i;
+            if (smallest == pieces.size()) break;
+            const Bond* best = nullptr;
+            const std::vector<Bond> bonds = buildBonds(pieces, 1e-6);
+            for (const Bond& b : bonds)
+                if ((b.a == smallest || b.b == smallest) && (!best || b.area > best->area)) best = &b;
+            if (!best) break;  // an isolated sliver: nothing to merge with
+            const std::size_t into = best->a == smallest ? best->b : best->a;
+            mergeInto(pieces[into], std::move(pieces[smallest]), settings.density);
+            pieces.erase(pieces.begin() + std::ptrdiff_t(smallest));
+            ++result.merged;
+        }
+    }
+
+    const double tolerance = 1e-6 * (1.0 + glm::length(glm::dvec3(computeBounds(mesh.positions).max -
+                                                                  computeBounds(mesh.positions).min)));
+    result.bonds = buildBonds(pieces, tolerance);
+    result.inputVolume = volumeOf(mesh);
+    result.pieces.resize(pieces.size());
+    tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
+        RawPiece& raw = pieces[i];
+        FracturePiece& piece = result.pieces[i];
+        piece.name = pieceName(i);
+        piece.mass = raw.mass;
+        piece.cell = std::uint32_t(*raw.cells.begin());
+        piece.level = raw.level;
+        piece.mesh = std::move(raw.mesh);
+        piece.mesh.name = piece.name;
+        for (std::size_t v = 0; v < piece.mesh.positions.size(); ++v)  // the pivot is the centre of mass
+            piece.mesh.positions[v] = glm::vec3(raw.worldPositions[v] - piece.mass.centerOfMass);
+        piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
+        piece.closed = inspectMesh(piece.mesh).closed;
+    });
+    progress(1.0);
+    return result;
+}
+
+}  // namespace dawnforge
