@@ -333,14 +333,30 @@ struct Hierarchy {
             for (std::size_t k = 0; k < ids.size(); ++k) cellDone();
             return;
         }
-        constexpr std::size_t kLeafCells = 3;
+        constexpr std::size_t kLeafCells = 20;
         if (ids.size() <= kLeafCells) {
+            // A cell whose box meets no surface triangle lies wholly inside the mesh (the
+            // piece is the cell itself) or wholly outside: no corefinement needed.
+            std::vector<CGAL::Bbox_3> faceBoxes;
+            faceBoxes.reserve(nodeMesh.number_of_faces());
+            for (Face f : nodeMesh.faces()) faceBoxes.push_back(PMP::face_bbox(f, nodeMesh));
+            std::vector<char> touches(ids.size(), 0);
+            for (std::size_t k = 0; k < ids.size(); ++k)
+                touches[k] = std::any_of(faceBoxes.begin(), faceBoxes.end(), [&](const CGAL::Bbox_3& b) {
+                    return CGAL::do_overlap(b, cells.boxes[ids[k]]);
+                });
+            std::optional<CGAL::Side_of_triangle_mesh<SM, K>> inside;
+            if (std::count(touches.begin(), touches.end(), 0) > 0) inside.emplace(nodeMesh);
             tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t k) {
                 const std::uint32_t id = ids[k];
-                SM piece = nodeMesh;
-                SM cell = cells.meshes[id];
-                intersectInPlace(piece, cell, "cell", id);
-                results[id] = std::move(piece);
+                if (!touches[k]) {
+                    if ((*inside)(toPoint(seeds[id])) == CGAL::ON_BOUNDED_SIDE) results[id] = cells.meshes[id];
+                } else {
+                    SM piece = nodeMesh;
+                    SM cell = cells.meshes[id];
+                    intersectInPlace(piece, cell, "cell", id);
+                    results[id] = std::move(piece);
+                }
                 cellDone();
             });
             return;
