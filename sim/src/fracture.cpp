@@ -37,6 +37,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <atomic>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -745,7 +746,45 @@ std::vector<Bond> buildBonds(const std::vector<RawPiece>& pieces, double toleran
     return out;
 }
 
+// Keeps only the triangles for which keep(t) holds, and the vertices they use.
+void filterTriangles(RawPiece& piece, const std::function<bool(std::size_t)>& keep) {
+    RawPiece out;
+    out.cells = std::move(piece.cells);
+    out.cuts = std::move(piece.cuts);
+    out.level = piece.level;
+    out.mass = piece.mass;
+    std::vector<std::uint32_t> vertexMap(piece.mesh.positions.size(), UINT32_MAX);
+    std::vector<std::uint32_t> pointMap(piece.points.size(), UINT32_MAX);
+    for (std::size_t t = 0; t < piece.triangleKeys.size(); ++t) {
+        if (!keep(t)) continue;
+        out.triangleKeys.push_back(piece.triangleKeys[t]);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t v = piece.mesh.indices[3 * t + k], q = piece.pointIndices[3 * t + k];
+            if (vertexMap[v] == UINT32_MAX) {
+                vertexMap[v] = std::uint32_t(out.mesh.positions.size());
+                out.mesh.positions.push_back(piece.mesh.positions[v]);
+                out.mesh.normals.push_back(piece.mesh.normals[v]);
+                out.mesh.uv0.push_back(piece.mesh.uv0[v]);
+                out.mesh.materialIds.push_back(piece.mesh.materialIds[v]);
+                out.worldPositions.push_back(piece.worldPositions[v]);
+            }
+            if (pointMap[q] == UINT32_MAX) {
+                pointMap[q] = std::uint32_t(out.points.size());
+                out.points.push_back(piece.points[q]);
+            }
+            out.mesh.indices.push_back(vertexMap[v]);
+            out.pointIndices.push_back(pointMap[q]);
+        }
+    }
+    out.mesh.name = piece.mesh.name;
+    piece = std::move(out);
+}
+
+// Merges `part` into `into`: the faces between them go (their boundary loops coincide
+// once rounded to float, so the welded result stays watertight), the rest is concatenated.
 void mergeInto(RawPiece& into, RawPiece&& part, double density) {
+    filterTriangles(into, [&](std::size_t t) { return !part.cells.count(into.triangleKeys[t]); });
+    filterTriangles(part, [&](std::size_t t) { return !into.cells.count(part.triangleKeys[t]); });
     const auto base = std::uint32_t(into.mesh.positions.size());
     const auto pointBase = std::uint32_t(into.points.size());
     for (std::uint32_t i : part.mesh.indices) into.mesh.indices.push_back(base + i);
@@ -808,7 +847,9 @@ std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSett
                        settings.impactDensity);
 }
 
-FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+namespace {
+
+FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
     DAWNFORGE_ASSERT(settings.pieces > 0 || !settings.points.empty(), "pieces must be positive");
     checkInput(mesh);
     FractureResult result;
@@ -848,9 +889,7 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
         if (!progress(share * (1 + level))) throw Cancelled();
     }
 
-    // Pieces below the minimum volume join the neighbour they share most area with. The
-    // merged piece is both closed shells together: the faces between them stay (hidden
-    // inside), so each part stays watertight; only their bond disappears.
+    // Pieces below the minimum volume join the neighbour they share most area with.
     if (settings.minVolume > 0.0) {
         for (;;) {
             std::size_t smallest = pieces.size();
@@ -892,6 +931,16 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
     });
     progress(1.0);
     return result;
+}
+
+}  // namespace
+
+FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+    try {
+        return fractureChecked(mesh, settings, progress);
+    } catch (const CGAL::Failure_exception& e) {  // degenerate geometry CGAL gave up on
+        throw InputError(format("fracture: CGAL could not handle the geometry: {}", e.message()));
+    }
 }
 
 }  // namespace dawnforge

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstring>
+
 using namespace dawnforge;
 using dawnforge::test::RunResult;
 using dawnforge::test::TempDir;
@@ -134,4 +136,84 @@ TEST(Cli, DemoBadOptionsExit2) {
     test::writeText(dir / "file", "x");
     expectBadInput({"demo", "-o", (dir / "file").string()}, "file");
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"file"});
+}
+
+TEST(CliFracture, WritesValidFilesThatAgreeWithEachOther) {
+    TempDir dir;
+    const Mesh sphere = makeIcosphere(1.0f, 3);
+    test::writeObj(dir / "sphere.obj", sphere);
+    const RunResult r = test::runDawnforge(
+        {"fracture", (dir / "sphere.obj").string(), "-o", (dir / "out").string(), "--pieces", "20", "--seed", "7"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("20 pieces"), std::string::npos) << r.out;
+    const RunResult v = test::validateGltf(dir / "out" / "fragments.glb");
+    EXPECT_EQ(v.exitCode, 0) << v.out;
+
+    const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "out" / "fracture.json"));
+    EXPECT_EQ(j["seed"], 7);
+    EXPECT_EQ(j["input"]["triangles"], 1280);
+    ASSERT_EQ(j["pieces"].size(), 20u);
+    double total = 0.0;
+    for (const auto& p : j["pieces"]) {
+        for (const char* key : {"id", "name", "volume", "mass", "center_of_mass", "inertia", "triangles", "closed"})
+            EXPECT_TRUE(p.contains(key)) << key;
+        EXPECT_EQ(p["closed"], true);
+        EXPECT_NEAR(p["mass"].get<double>(), 2400.0 * p["volume"].get<double>(), 1e-9);
+        total += p["volume"].get<double>();
+    }
+    EXPECT_NEAR(total / j["input"]["volume"].get<double>(), 1.0, 1e-6);
+    ASSERT_FALSE(j["bonds"].empty());
+    for (const char* key : {"a", "b", "area", "centroid", "normal"}) EXPECT_TRUE(j["bonds"][0].contains(key)) << key;
+
+    // The GLB's nodes: piece_NNNN, translated to the centre of mass that fracture.json states.
+    const std::string glb = test::readText(dir / "out" / "fragments.glb");
+    std::uint32_t length = 0;
+    std::memcpy(&length, glb.data() + 12, 4);
+    const nlohmann::json gltf = nlohmann::json::parse(glb.substr(20, length));
+    ASSERT_EQ(gltf["nodes"].size(), 20u);
+    for (std::size_t i = 0; i < 20; ++i) {
+        EXPECT_EQ(gltf["nodes"][i]["name"], j["pieces"][i]["name"]);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(gltf["nodes"][i]["translation"][k].get<double>(),
+                        j["pieces"][i]["center_of_mass"][k].get<double>(), 1e-6);
+    }
+}
+
+TEST(CliFracture, SameBytesOnOneAndTwoThreads) {
+    TempDir dir;
+    test::writeObj(dir / "torus.obj", test::makeTorus(1.0f, 0.4f, 24, 12));
+    for (const char* threads : {"1", "2"})
+        ASSERT_EQ(test::runDawnforge({"fracture", (dir / "torus.obj").string(), "-o", (dir / threads).string(),
+                                      "--pieces", "12", "--threads", threads})
+                      .exitCode,
+                  0);
+    EXPECT_EQ(test::readBytes(dir / "1" / "fragments.glb"), test::readBytes(dir / "2" / "fragments.glb"));
+    EXPECT_EQ(test::readText(dir / "1" / "fracture.json"), test::readText(dir / "2" / "fracture.json"));
+}
+
+TEST(CliFracture, BadInputExits2AndWritesNothing) {
+    TempDir dir;
+    test::writeObj(dir / "sphere.obj", makeIcosphere(1.0f, 2));
+    const std::string sphere = (dir / "sphere.obj").string(), out = (dir / "out").string();
+    expectBadInput({"fracture", sphere, "-o", out, "--pieces", "0"}, "--pieces");
+    expectBadInput({"fracture", sphere, "-o", out, "--pieces", "-5"}, "--pieces");
+    expectBadInput({"fracture", sphere, "-o", out, "--pieces", "20001"}, "--force");
+    expectBadInput({"fracture", sphere, "-o", out, "--impact", "1,2"}, "--impact");
+    expectBadInput({"fracture", sphere, "-o", out, "--levels", "1"}, "--impact");
+    expectBadInput({"fracture", sphere, "-o", out, "--interior-material", "16"}, "--interior-material");
+    expectBadInput({"fracture", test::dataFile("open_box.obj").string(), "-o", out}, "not closed");
+    expectBadInput({"fracture", test::dataFile("nan.obj").string(), "-o", out}, "non-finite");
+    expectBadInput({"fracture", (dir / "missing.obj").string(), "-o", out}, "no such file");
+    test::writeText(dir / "points.txt", "0 0 0\n0.1 oops 0\n");
+    expectBadInput({"fracture", sphere, "-o", out, "--points", (dir / "points.txt").string()}, "line 2");
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"points.txt", "sphere.obj"}));
+}
+
+TEST(CliFracture, RepairOptionFixesAnOpenMesh) {
+    TempDir dir;
+    const RunResult r = test::runDawnforge(
+        {"fracture", test::dataFile("open_box.obj").string(), "-o", (dir / "out").string(), "--pieces", "3", "--repair"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("filled 1 holes"), std::string::npos) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "out" / "fracture.json"));
 }

@@ -6,6 +6,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -113,6 +116,40 @@ double referenceVolume(const Mesh& mesh) {
         v += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
     }
     return static_cast<double>(v / 6.0L);
+}
+
+Mesh makeTorus(float majorRadius, float minorRadius, int around, int section) {
+    Mesh m;
+    m.name = "torus";
+    const double tau = 6.283185307179586;
+    for (int i = 0; i < around; ++i)
+        for (int j = 0; j < section; ++j) {
+            const double u = tau * i / around, v = tau * j / section;
+            const double ring = majorRadius + minorRadius * std::cos(v);
+            m.positions.emplace_back(float(ring * std::cos(u)), float(minorRadius * std::sin(v)),
+                                     float(ring * std::sin(u)));
+        }
+    auto at = [&](int i, int j) { return std::uint32_t(((i + around) % around) * section + (j + section) % section); };
+    for (int i = 0; i < around; ++i)
+        for (int j = 0; j < section; ++j) {
+            const std::uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+            m.indices.insert(m.indices.end(), {a, c, b, a, d, c});
+        }
+    return m;
+}
+
+double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
+    double total = 0.0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::dvec3 a = glm::dvec3(mesh.positions[mesh.indices[3 * t]]) - p;
+        const glm::dvec3 b = glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]) - p;
+        const glm::dvec3 c = glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]]) - p;
+        const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+        const double det = glm::dot(a, glm::cross(b, c));
+        const double div = la * lb * lc + glm::dot(a, b) * lc + glm::dot(b, c) * la + glm::dot(c, a) * lb;
+        total += 2.0 * std::atan2(det, div);
+    }
+    return total / (4.0 * 3.141592653589793);
 }
 
 }  // namespace dawnforge::test

@@ -51,4 +51,11 @@ std::size_t lineCount(const std::string& text);
 // independent reference for the CGAL-based inspection.
 double referenceVolume(const Mesh& mesh);
 
+// A closed torus around the Y axis (outward, counter-clockwise): non-convex, genus 1.
+Mesh makeTorus(float majorRadius, float minorRadius, int around, int section);
+
+// Generalised winding number of a closed mesh at p (1 inside, 0 outside; van Oosterom
+// and Strackee's solid angle): an inside test that needs no library.
+double windingNumber(const Mesh& mesh, const glm::dvec3& p);
+
 }  // namespace dawnforge::test
