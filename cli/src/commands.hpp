@@ -34,6 +34,9 @@ struct FractureOptions {
     int levelPieces = 8;
     bool force = false;
     bool repair = false;
+    double roughness = 0.0;
+    double roughScale = 0.0;
+    double voxelSize = 0.0;
 };
 int runFracture(const FractureOptions& options, const CommonOptions& common);
 

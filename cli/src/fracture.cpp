@@ -58,6 +58,9 @@ int runFracture(const FractureOptions& options, const CommonOptions& common) {
     settings.minVolume = options.minVolume;
     settings.levels = options.levels;
     settings.levelPieces = options.levelPieces;
+    settings.roughness = options.roughness;
+    settings.roughScale = options.roughScale;
+    settings.voxelSize = options.voxelSize;
     if (!options.pointsFile.empty()) settings.points = readPoints(options.pointsFile);
     const std::size_t requested = settings.points.empty() ? std::size_t(settings.pieces) : settings.points.size();
     if (requested > std::size_t(kMaxPiecesWithoutForce) && !options.force)

@@ -77,6 +77,13 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 4))->capture_default_str();
     fractureCmd->add_option("--level-pieces", fracture.levelPieces, "Pieces per re-fractured piece")
         ->check(CLI::Range(2, 1000))->capture_default_str();
+    fractureCmd->add_option("--roughness", fracture.roughness,
+                            "Noisy cut surfaces of this amplitude (m), meshed from OpenVDB level sets; 0: exact planar cuts")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    fractureCmd->add_option("--rough-scale", fracture.roughScale, "Noise wavelength (m); default four times --roughness")
+        ->check(CLI::NonNegativeNumber);
+    fractureCmd->add_option("--voxel", fracture.voxelSize, "Level-set voxel size (m) for --roughness; default automatic")
+        ->check(CLI::NonNegativeNumber);
     fractureCmd->add_flag("--force", fracture.force, "Allow more than 20,000 pieces");
     fractureCmd->add_flag("--repair", fracture.repair, "Repair an open or inconsistent mesh first (and say so on stderr)");
     fractureCmd->add_option("--threads", threads, "Worker threads (0: all cores); output does not depend on it")

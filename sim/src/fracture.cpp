@@ -10,6 +10,7 @@
 // in metres and the interior material; cut planes give the bond graph.
 //
 // This is the only translation unit of sim that includes CGAL.
+#include "rough.hpp"
 #include "tetrahedralize.hpp"
 
 #include <dawnforge/core/error.hpp>
@@ -676,6 +677,65 @@ struct Call {
     std::vector<glm::dvec3> seeds;
 };
 
+// The pieces of the rough path (rough.cpp), as raw pieces with cut groups for bonds.
+std::vector<RawPiece> roughFracture(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, const Cells& cells,
+                                    const std::vector<glm::dvec3>& seeds, std::int64_t cellBase, double diagonal,
+                                    const FractureSettings& settings) {
+    (void)triangleKeys;  // rough pieces re-mesh the surface: their faces name cut neighbours only
+    std::vector<detail::RoughCell> rough(seeds.size());
+    for (std::size_t i = 0; i < seeds.size(); ++i) {
+        for (const CutPlane& c : cells.planes[i]) {
+            const glm::dvec3 n(c.plane.a(), c.plane.b(), c.plane.c());
+            const double len = glm::length(n);
+            const std::int64_t own = cellBase + std::int64_t(i);
+            rough[i].planes.push_back({n / len, c.plane.d() / len,
+                                       c.neighbour < 0 ? 0.0 : (own < c.neighbour ? 1.0 : -1.0), c.neighbour});
+        }
+        const CGAL::Bbox_3& b = cells.boxes[i];
+        rough[i].lo = {b.xmin(), b.ymin(), b.zmin()};
+        rough[i].hi = {b.xmax(), b.ymax(), b.zmax()};
+    }
+    detail::RoughSettings rs;
+    rs.amplitude = settings.roughness;
+    rs.featureSize = settings.roughScale > 0.0 ? settings.roughScale : 4.0 * settings.roughness;
+    rs.voxelSize = settings.voxelSize > 0.0 ? settings.voxelSize
+                                            : std::clamp(0.5 * settings.roughness, diagonal / 400.0, diagonal / 50.0);
+    rs.seed = deriveSeed(settings.seed, "fracture-roughness");
+    rs.interiorMaterial = settings.interiorMaterial;
+    rs.uvScale = settings.interiorUvScale;
+    std::vector<std::vector<detail::RoughPiece>> perCell = detail::roughPieces(mesh, rough, rs);
+
+    std::vector<RawPiece> pieces;
+    for (std::size_t i = 0; i < perCell.size(); ++i)
+        for (detail::RoughPiece& rp : perCell[i]) {
+            RawPiece p;
+            p.cells.insert(cellBase + std::int64_t(i));
+            p.mesh = std::move(rp.mesh);
+            p.mesh.name = "piece";
+            p.triangleKeys = std::move(rp.triangleKeys);
+            p.worldPositions.assign(p.mesh.positions.begin(), p.mesh.positions.end());
+            p.points = p.worldPositions;
+            p.pointIndices = p.mesh.indices;
+            for (std::size_t t = 0; t < p.triangleKeys.size(); ++t) {
+                if (p.triangleKeys[t] < 0) continue;
+                const glm::dvec3 a = p.points[p.pointIndices[3 * t]], b = p.points[p.pointIndices[3 * t + 1]],
+                                 c = p.points[p.pointIndices[3 * t + 2]];
+                const glm::dvec3 cross = glm::cross(b - a, c - a);
+                const double area = 0.5 * glm::length(cross);
+                if (area <= 0.0) continue;
+                CutGroup& g = p.cuts[p.triangleKeys[t]];
+                g.area += area;
+                g.weightedCentroid += area * (a + b + c) / 3.0;
+                g.normal += cross;
+                for (const glm::dvec3& q : {a, b, c}) g.box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
+            }
+            for (auto& [key, g] : p.cuts) g.normal = glm::normalize(g.normal);
+            p.mass = computeMassProperties(p.points, p.pointIndices, settings.density);
+            pieces.push_back(std::move(p));
+        }
+    return pieces;
+}
+
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::vector<glm::dvec3> seeds,
                   std::int64_t cellBase, const FractureSettings& settings, const ProgressFn& progress) {
@@ -684,6 +744,13 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     const double diagonal =
         std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) + std::pow(b.zmax() - b.zmin(), 2));
     const Cells cells = buildCells(seeds, expanded(b, 0.01 * diagonal + 1e-6), cellBase);
+
+    if (settings.roughness > 0.0) {
+        Call call;
+        call.pieces = roughFracture(mesh, triangleKeys, cells, seeds, cellBase, diagonal, settings);
+        call.seeds = std::move(seeds);
+        return call;
+    }
 
     std::vector<SM> results(seeds.size());
     Hierarchy hierarchy{cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};

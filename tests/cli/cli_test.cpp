@@ -201,6 +201,7 @@ TEST(CliFracture, BadInputExits2AndWritesNothing) {
     expectBadInput({"fracture", sphere, "-o", out, "--impact", "1,2"}, "--impact");
     expectBadInput({"fracture", sphere, "-o", out, "--levels", "1"}, "--impact");
     expectBadInput({"fracture", sphere, "-o", out, "--interior-material", "16"}, "--interior-material");
+    expectBadInput({"fracture", sphere, "-o", out, "--roughness", "-0.1"}, "--roughness");
     expectBadInput({"fracture", test::dataFile("open_box.obj").string(), "-o", out}, "not closed");
     expectBadInput({"fracture", test::dataFile("nan.obj").string(), "-o", out}, "non-finite");
     expectBadInput({"fracture", (dir / "missing.obj").string(), "-o", out}, "no such file");

@@ -237,3 +237,62 @@ TEST(Fracture, RefusesMeshesThatBoundNoVolume) {
     flipOrientation(inside);
     EXPECT_THROW(fractureMesh(inside, s), InputError);
 }
+
+TEST(Fracture, RoughCutsAreClosedNoisyAndTouching) {
+    const Mesh sphere = makeIcosphere(1.0f, 3);
+    FractureSettings s;
+    s.pieces = 8;
+    s.roughness = 0.08;
+    s.interiorMaterial = 15;
+    const FractureResult r = fractureMesh(sphere, s);
+    ASSERT_GE(r.pieces.size(), 8u);
+    // Level sets are meshed at a voxel of half the roughness: volume holds to about 2%.
+    EXPECT_NEAR(totalVolume(r) / r.inputVolume, 1.0, 0.02);
+    for (const FracturePiece& p : r.pieces) {
+        const MeshReport report = inspectMesh(p.mesh);
+        EXPECT_TRUE(report.closed) << p.name;
+        EXPECT_TRUE(report.manifold) << p.name;
+    }
+    EXPECT_GE(r.bonds.size(), r.pieces.size());  // neighbours still touch
+    // Noisy: the cut faces of one bond do not share one normal.
+    double spread = 0.0;
+    for (const FracturePiece& p : r.pieces)
+        for (std::size_t t = 0; t < p.mesh.triangleCount(); ++t) {
+            const std::uint32_t* i = &p.mesh.indices[3 * t];
+            if (p.mesh.materialIds[i[0]] != 15) continue;
+            for (const Bond& b : r.bonds)
+                if (b.a == std::uint32_t(&p - r.pieces.data())) {
+                    const glm::dvec3 n(p.mesh.normals[i[0]]);
+                    spread = std::max(spread, 1.0 - std::abs(glm::dot(n, b.normal)));
+                    break;
+                }
+        }
+    EXPECT_GT(spread, 0.05);
+    // Pieces barely overlap: few sample points fall in two of them (only within a voxel of a cut).
+    std::vector<Mesh> world;
+    for (const FracturePiece& p : r.pieces) world.push_back(worldMesh(p));
+    Rng rng(9);
+    int doubleCounted = 0, inside = 0;
+    for (int i = 0; i < 200; ++i) {
+        const glm::dvec3 q(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        int containing = 0;
+        for (const Mesh& m : world) containing += test::windingNumber(m, q) > 0.5 ? 1 : 0;
+        doubleCounted += containing > 1;
+        inside += containing > 0;
+    }
+    EXPECT_GT(inside, 50);
+    EXPECT_LE(doubleCounted, 4);
+}
+
+TEST(Fracture, RoughCutsAreDeterministic) {
+    const Mesh torus = test::makeTorus(1.0f, 0.35f, 24, 12);
+    FractureSettings s;
+    s.pieces = 6;
+    s.roughness = 0.06;
+    auto run = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        const FractureResult r = fractureMesh(torus, s);
+        return std::make_pair(encodeGlb(fractureScene(r)), fractureJson(r, s, "torus"));
+    };
+    EXPECT_EQ(run(1), run(2));
+}

@@ -8,6 +8,8 @@
 // predicates. Cells are processed in a bounding-box hierarchy: each level intersects the
 // mesh with a box around a group of cells, so a cell meets only the part of the mesh
 // that can reach it. A cell that cuts the mesh into several parts gives several pieces.
+// With roughness > 0, pieces are instead meshed from OpenVDB level sets with noisy cut
+// surfaces (the exact path stays the default).
 #include <dawnforge/core/mesh.hpp>
 #include <dawnforge/core/progress.hpp>
 #include <dawnforge/sim/mass_properties.hpp>
@@ -32,6 +34,9 @@ struct FractureSettings {
     double minVolume = 0.0;                     // pieces smaller than this merge into their largest neighbour
     int levels = 0;                             // fracture pieces near the impact again, this many times
     int levelPieces = 8;                        // pieces per re-fractured piece
+    double roughness = 0.0;                     // > 0: noisy cut surfaces of this amplitude (m), via OpenVDB level sets
+    double roughScale = 0.0;                    // noise wavelength (m); 0: four times the roughness
+    double voxelSize = 0.0;                     // level-set voxel (m); 0: half the roughness, within diag/400..diag/50
 };
 
 struct FracturePiece {
