@@ -678,10 +678,10 @@ struct Call {
 };
 
 // The pieces of the rough path (rough.cpp), as raw pieces with cut groups for bonds.
-std::vector<RawPiece> roughFracture(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, const Cells& cells,
-                                    const std::vector<glm::dvec3>& seeds, std::int64_t cellBase, double diagonal,
-                                    const FractureSettings& settings) {
-    (void)triangleKeys;  // rough pieces re-mesh the surface: their faces name cut neighbours only
+// Rough pieces re-mesh the whole surface, so their faces name only the cuts made here: a
+// piece re-fractured by `levels` keeps bonds among its own sub-pieces, not outward.
+std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
+                                    std::int64_t cellBase, double diagonal, const FractureSettings& settings) {
     std::vector<detail::RoughCell> rough(seeds.size());
     for (std::size_t i = 0; i < seeds.size(); ++i) {
         for (const CutPlane& c : cells.planes[i]) {
@@ -747,7 +747,7 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
 
     if (settings.roughness > 0.0) {
         Call call;
-        call.pieces = roughFracture(mesh, triangleKeys, cells, seeds, cellBase, diagonal, settings);
+        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, settings);
         call.seeds = std::move(seeds);
         return call;
     }
