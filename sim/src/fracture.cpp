@@ -737,9 +737,14 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
 }
 
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
-Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::vector<glm::dvec3> seeds,
-                  std::int64_t cellBase, const FractureSettings& settings, const ProgressFn& progress) {
+// Seeds are settings.points, or sampled from the surface this call builds anyway.
+Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::int64_t cellBase,
+                  const FractureSettings& settings, const ProgressFn& progress) {
     Input in = makeInput(mesh, triangleKeys);
+    std::vector<glm::dvec3> seeds = !settings.points.empty()
+                                        ? settings.points
+                                        : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
+                                                      settings.impactRadius, settings.impactDensity);
     const CGAL::Bbox_3& b = in.bbox;
     const double diagonal =
         std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) + std::pow(b.zmax() - b.zmin(), 2));
@@ -922,10 +927,9 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
     FractureResult result;
     result.inputTriangles = mesh.triangleCount();
 
-    std::vector<glm::dvec3> seeds = settings.points.empty() ? sampleFractureSeeds(mesh, settings) : settings.points;
     // Re-fracture levels each take a share of the progress bar.
     const double share = 1.0 / double(1 + settings.levels);
-    Call top = fractureOnce(mesh, nullptr, std::move(seeds), 0, settings,
+    Call top = fractureOnce(mesh, nullptr, 0, settings,
                             [&](double f) { return progress(f * share); });
     result.seeds = top.seeds;
     std::vector<RawPiece> pieces = std::move(top.pieces);
@@ -943,9 +947,9 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
             FractureSettings sub = settings;
             sub.pieces = settings.levelPieces;
             sub.impact.reset();
+            sub.points.clear();
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
-            std::vector<glm::dvec3> subSeeds = sampleFractureSeeds(p.mesh, sub);
-            Call call = fractureOnce(p.mesh, &p.triangleKeys, std::move(subSeeds), nextCell, sub, noProgress);
+            Call call = fractureOnce(p.mesh, &p.triangleKeys, nextCell, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
             for (RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
