@@ -190,8 +190,10 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index, const 
         throw InputError(format("{}: accessor {} ({}) has an unsupported type", source, index, what));
     if (a.sparse.isSparse)
         throw InputError(format("{}: accessor {} ({}) is sparse, which is not supported", source, index, what));
-    std::vector<double> out(a.count * std::size_t(components), 0.0);
-    if (a.bufferView < 0) return out;  // all zeros, as the spec says
+    constexpr std::size_t kMaxElements = std::size_t(1) << 28;  // no real mesh comes near this
+    if (a.count > kMaxElements)
+        throw InputError(format("{}: accessor {} ({}) claims {} elements", source, index, what, a.count));
+    if (a.bufferView < 0) return std::vector<double>(a.count * std::size_t(components), 0.0);  // zeros, per the spec
     if (std::size_t(a.bufferView) >= model.bufferViews.size())
         throw InputError(format("{}: accessor {} refers to a missing bufferView", source, index));
     const tinygltf::BufferView& view = model.bufferViews[std::size_t(a.bufferView)];
@@ -203,8 +205,10 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index, const 
     const std::size_t viewEnd = view.byteOffset + view.byteLength;
     if (viewEnd > data.size() || view.byteOffset > data.size())
         throw InputError(format("{}: bufferView {} runs past the end of its buffer", source, a.bufferView));
-    if (a.count > 0 && (a.byteOffset + stride * (a.count - 1) + element > view.byteLength || stride < element))
+    if (a.count > 0 && (stride < element || a.byteOffset > view.byteLength ||
+                        stride * (a.count - 1) + element > view.byteLength - a.byteOffset))
         throw InputError(format("{}: accessor {} ({}) runs past the end of its bufferView", source, index, what));
+    std::vector<double> out(a.count * std::size_t(components), 0.0);
     const unsigned char* base = data.data() + view.byteOffset + a.byteOffset;
     for (std::size_t i = 0; i < a.count; ++i) {
         const unsigned char* e = base + i * stride;

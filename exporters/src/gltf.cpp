@@ -30,7 +30,13 @@ tinygltf::Value toValue(const nlohmann::json& j) {
         case nlohmann::json::value_t::string: return tinygltf::Value(j.get<std::string>());
         case nlohmann::json::value_t::boolean: return tinygltf::Value(j.get<bool>());
         case nlohmann::json::value_t::number_integer:
-        case nlohmann::json::value_t::number_unsigned: return tinygltf::Value(j.get<int>());
+        case nlohmann::json::value_t::number_unsigned: {
+            // tinygltf's integers are int: larger ones travel as doubles rather than wrap.
+            const double d = j.get<double>();
+            if (d >= std::numeric_limits<int>::min() && d <= std::numeric_limits<int>::max())
+                return tinygltf::Value(j.get<int>());
+            return tinygltf::Value(d);
+        }
         case nlohmann::json::value_t::number_float: return tinygltf::Value(j.get<double>());
         default: return {};
     }

@@ -135,4 +135,13 @@ TEST(ImportGltf, BadFilesAreInputErrors) {
     expectInputError(dir / "truncated.glb", "not a readable glTF");
     test::writeText(dir / "text.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{}], \"nodes\": [{\"mesh\": 3}]}");
     expectInputError(dir / "text.gltf", "");
+    // An accessor that claims far more elements than its buffer holds.
+    test::writeText(dir / "huge.gltf",
+                    R"({"asset": {"version": "2.0"},
+                        "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+                        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+                        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4611686018427387904, "type": "VEC3"}],
+                        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+                        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]})");
+    expectInputError(dir / "huge.gltf", "");
 }

@@ -98,3 +98,12 @@ TEST(Gltf, UnwritableOutputLeavesNothing) {
     EXPECT_THROW(writeGlb(fullScene(), dir / "missing" / "x.glb"), InputError);
     EXPECT_TRUE(dir.entries().empty());
 }
+
+TEST(Gltf, LargeIntegersInExtrasAreNotWrapped) {
+    Scene scene;
+    scene.addMeshNode(makeBox({0, 0, 0}, {1, 1, 1}));
+    scene.extrasJson = R"({"seed": 12345678901, "small": -7})";
+    const nlohmann::json j = glbJson(encodeGlb(scene));
+    EXPECT_EQ(j["scenes"][0]["extras"]["seed"].get<double>(), 12345678901.0);
+    EXPECT_EQ(j["scenes"][0]["extras"]["small"], -7);
+}
