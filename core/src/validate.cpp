@@ -139,7 +139,10 @@ MeshReport inspectMesh(const Mesh& mesh) {
         while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
         const std::size_t count = j - i;
         for (std::size_t k = i + 1; k < j; ++k) componentOf.unite(uses[i].face, uses[k].face);
-        if (count == 1) ++r.boundaryEdges;
+        if (count == 1 && ++r.boundaryEdges <= 3) {
+            const Point &a = soup.points[uses[i].lo], &b = soup.points[uses[i].hi];
+            r.openEdges.emplace_back(glm::dvec3(a.x(), a.y(), a.z()), glm::dvec3(b.x(), b.y(), b.z()));
+        }
         if (count > 2) ++r.nonManifoldEdges;
         if (count == 2) {
             if (uses[i].forward == uses[i + 1].forward) r.consistentlyOriented = false;

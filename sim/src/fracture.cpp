@@ -895,10 +895,14 @@ double volumeOf(const Mesh& mesh) {
 
 void checkInput(const Mesh& mesh) {
     const MeshReport r = inspectMesh(mesh);
-    if (!r.closed)
-        throw InputError(format("the mesh is not closed ({} boundary edges, {} non-manifold edges); repair it with "
-                                "'dawnforge inspect FILE --repair OUT.glb'",
-                                r.boundaryEdges, r.nonManifoldEdges));
+    if (!r.closed) {
+        std::string where;
+        for (const auto& [a, b] : r.openEdges)
+            where += format("{}({} {} {})-({} {} {})", where.empty() ? ", open at " : ", ", a.x, a.y, a.z, b.x, b.y, b.z);
+        throw InputError(format("the mesh is not closed ({} boundary edges{}, {} non-manifold edges); repair it with "
+                                "'dawnforge fracture --repair' or 'dawnforge inspect FILE --repair OUT.glb'",
+                                r.boundaryEdges, where, r.nonManifoldEdges));
+    }
     if (!r.manifold)
         throw InputError(format("the mesh is not manifold ({} non-manifold vertices); repair it with 'dawnforge "
                                 "inspect FILE --repair OUT.glb'",

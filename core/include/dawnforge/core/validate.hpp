@@ -3,6 +3,7 @@
 #include <dawnforge/core/mesh.hpp>
 
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct MeshReport {
     std::optional<double> volume;        // signed; only for closed, manifold, oriented meshes
     double area = 0.0;
     Bounds bounds;
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> openEdges;  // the first few boundary edges, to name in errors
 };
 
 // Topology and geometry checks on a mesh that passed validateMeshData().
