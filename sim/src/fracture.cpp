@@ -85,13 +85,20 @@ struct CutPlane {
     std::int64_t neighbour;
 };
 
-// Intersects `a` with `b` in place (a := a ∩ b), keeping face origins.
-void intersectInPlace(SM& a, SM& b, const char* what, std::size_t id) {
+// Intersects `a` with `b` in place (a := a ∩ b), keeping face origins. Returns false when
+// CGAL finds self-intersecting triangles near the intersection: chained Epick corefinements
+// can leave such rounding artefacts, and corefinement can loop forever on them, so it is
+// asked to check and throw instead (throw_on_self_intersection). `a` is then unusable.
+bool tryIntersectInPlace(SM& a, SM& b, const char* what, std::size_t id) {
     Origin current = 0;
     OriginVisitor visitor(&current);
     bool ok = false;
     try {
-        ok = PMP::corefine_and_compute_intersection(a, b, a, CGAL::parameters::visitor(visitor));
+        ok = PMP::corefine_and_compute_intersection(
+            a, b, a, CGAL::parameters::visitor(visitor).throw_on_self_intersection(true),
+            CGAL::parameters::throw_on_self_intersection(true));
+    } catch (const PMP::Corefinement::Self_intersection_exception&) {
+        return false;
     } catch (const std::exception& e) {
         throw InputError(format("fracture: CGAL failed on {} {}: {}", what, id, e.what()));
     }
@@ -99,6 +106,7 @@ void intersectInPlace(SM& a, SM& b, const char* what, std::size_t id) {
         throw InputError(format("fracture: the intersection with {} {} is not a manifold (a cut passes exactly "
                                 "through an edge or corner of the mesh); try another --seed",
                                 what, id));
+    return true;
 }
 
 // The convex polyhedron of half-spaces (negative sides), with face origins set to the
@@ -307,6 +315,7 @@ Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bound
 // ---------------------------------------------------------------- the hierarchy
 
 struct Hierarchy {
+    const SM& input;  // the clean input surface: the fallback when a chained cut fails
     const Cells& cells;
     const std::vector<glm::dvec3>& seeds;
     double margin;
@@ -356,7 +365,12 @@ struct Hierarchy {
                 } else {
                     SM piece = nodeMesh;
                     SM cell = cells.meshes[id];
-                    intersectInPlace(piece, cell, "cell", id);
+                    if (!tryIntersectInPlace(piece, cell, "cell", id)) {  // redo it on the clean input
+                        piece = input;
+                        cell = cells.meshes[id];
+                        if (!tryIntersectInPlace(piece, cell, "cell", id))
+                            throw InputError(format("fracture: cell {} meets a self-intersection of the mesh", id));
+                    }
                     results[id] = std::move(piece);
                 }
                 cellDone();
@@ -390,8 +404,10 @@ struct Hierarchy {
                                 Point(0.5 * (c.xmin() + c.xmax()), 0.5 * (c.ymin() + c.ymax()), 0.5 * (c.zmin() + c.zmax())),
                                 ids[0]);
         SM mesh = parentMesh;
-        intersectInPlace(mesh, boxMesh, "cell group of", ids[0]);
-        process(mesh, std::move(ids), depth);
+        if (tryIntersectInPlace(mesh, boxMesh, "cell group of", ids[0]))
+            process(mesh, std::move(ids), depth);
+        else  // the box cut failed: its cells take the parent's mesh, which is also valid for them
+            process(parentMesh, std::move(ids), depth);
     }
 };
 
@@ -758,7 +774,7 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     }
 
     std::vector<SM> results(seeds.size());
-    Hierarchy hierarchy{cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
+    Hierarchy hierarchy{in.sm, cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
     std::vector<std::uint32_t> all(seeds.size());
     std::iota(all.begin(), all.end(), 0u);
     hierarchy.process(in.sm, std::move(all));

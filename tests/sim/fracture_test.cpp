@@ -297,3 +297,16 @@ TEST(Fracture, RoughCutsAreDeterministic) {
     };
     EXPECT_EQ(run(1), run(2));
 }
+
+// Regression: with this tower and seed, a second-level box cut met rounding
+// self-intersections left by the first and CGAL's corefinement looped forever. Cuts now
+// ask CGAL to throw on self-intersections and redo the cell on the clean input.
+TEST(Fracture, AxisAlignedTowerDoesNotHang) {
+    const Mesh tower = makeTower(6, 3.0f, 10.0f, 10.0f);
+    FractureSettings s;
+    s.pieces = 60;
+    s.seed = 3;
+    const FractureResult r = fractureMesh(tower, s);
+    EXPECT_EQ(r.pieces.size(), 60u);
+    expectSoundPieces(tower, r, 6 * 3.0 * 10.0 * 10.0);
+}
