@@ -418,6 +418,13 @@ struct CutGroup {
     glm::dvec3 weightedCentroid{0.0};
     glm::dvec3 normal{0.0};
     CGAL::Bbox_3 box;
+
+    // Adds triangle (a, b, c) of the given area (the caller has it already); not the normal.
+    void add(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double triangleArea) {
+        area += triangleArea;
+        weightedCentroid += triangleArea * (a + b + c) / 3.0;
+        for (const glm::dvec3& q : {a, b, c}) box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
+    }
 };
 
 // A piece as one fracture call makes it: world-space mesh and its cut faces by neighbour.
@@ -634,12 +641,9 @@ RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input&
         }
         if (key >= 0) {
             CutGroup& g = piece.cuts[key];
-            const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
-            g.area += area;
-            g.weightedCentroid += area * (p[0] + p[1] + p[2]) / 3.0;
+            g.add(p[0], p[1], p[2], 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
             g.normal = origin < 0 ? planes[std::size_t(-1 - origin)].normal
                                   : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
-            for (const glm::dvec3& q : p) g.box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
         }
         piece.triangleKeys.push_back(key);
         for (std::size_t corner = 0; corner < 3; ++corner) {
@@ -740,10 +744,8 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
                 const double area = 0.5 * glm::length(cross);
                 if (area <= 0.0) continue;
                 CutGroup& g = p.cuts[p.triangleKeys[t]];
-                g.area += area;
-                g.weightedCentroid += area * (a + b + c) / 3.0;
+                g.add(a, b, c, area);
                 g.normal += cross;
-                for (const glm::dvec3& q : {a, b, c}) g.box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
             }
             for (auto& [key, g] : p.cuts) g.normal = glm::normalize(g.normal);
             p.mass = computeMassProperties(p.points, p.pointIndices, settings.density);
@@ -1001,8 +1003,8 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
         }
     }
 
-    const double tolerance = 1e-6 * (1.0 + glm::length(glm::dvec3(computeBounds(mesh.positions).max -
-                                                                  computeBounds(mesh.positions).min)));
+    const Bounds bounds = computeBounds(mesh.positions);
+    const double tolerance = 1e-6 * (1.0 + glm::length(bounds.max - bounds.min));
     result.bonds = buildBonds(pieces, tolerance);
     result.inputVolume = volumeOf(mesh);
     result.pieces.resize(pieces.size());
