@@ -268,6 +268,10 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
         for (std::size_t i = 0; i < n; ++i) mesh.uv0.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
     if (auto v = vecAttribute("TEXCOORD_1", 2); !v.empty())
         for (std::size_t i = 0; i < n; ++i) mesh.uv1.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
+    if (auto v = vecAttribute("TEXCOORD_2", 2); !v.empty())
+        for (std::size_t i = 0; i < n; ++i) mesh.uv2.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
+    if (auto v = vecAttribute("TEXCOORD_3", 2); !v.empty())
+        for (std::size_t i = 0; i < n; ++i) mesh.uv3.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
     if (auto v = vecAttribute("COLOR_0", 0); !v.empty()) {
         // Material IDs are read from COLOR_0 only when it is binary (every channel 0 or 1).
         const std::size_t c = v.size() / n;
@@ -320,7 +324,7 @@ glm::mat4 localMatrix(const tinygltf::Node& node) {
     return glm::mat4(m);
 }
 
-void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, Mesh& out,
+void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, std::vector<MeshNode>& out,
              std::vector<bool>& visited, const std::string& source) {
     if (index < 0 || std::size_t(index) >= model.nodes.size())
         throw InputError(format("{}: node {} does not exist", source, index));
@@ -332,13 +336,18 @@ void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, M
     if (node.mesh >= 0) {
         if (std::size_t(node.mesh) >= model.meshes.size())
             throw InputError(format("{}: node {} refers to mesh {} which does not exist", source, index, node.mesh));
+        MeshNode entry;
+        entry.name = node.name;
+        entry.world = world;
+        entry.mesh.name = model.meshes[std::size_t(node.mesh)].name;
         for (const tinygltf::Primitive& prim : model.meshes[std::size_t(node.mesh)].primitives)
-            appendMesh(out, readPrimitive(model, prim, source), world);
+            appendMesh(entry.mesh, readPrimitive(model, prim, source), glm::mat4(1.0f));
+        out.push_back(std::move(entry));
     }
     for (int child : node.children) addNode(model, child, world, out, visited, source);
 }
 
-Mesh loadGltf(const fs::path& file, const std::string& name) {
+std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& name) {
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
     tinygltf::Model model;
@@ -350,8 +359,7 @@ Mesh loadGltf(const fs::path& file, const std::string& name) {
                            : loader.LoadASCIIFromFile(&model, &err, &warn, file.string());
     if (!ok) throw InputError(format("{}: not a readable glTF file: {}", name, oneLine(err)));
 
-    Mesh mesh;
-    mesh.name = file.stem().string();
+    std::vector<MeshNode> nodes;
     std::vector<bool> visited(model.nodes.size(), false);
     std::vector<int> roots;
     if (!model.scenes.empty()) {
@@ -366,8 +374,8 @@ Mesh loadGltf(const fs::path& file, const std::string& name) {
         for (std::size_t i = 0; i < model.nodes.size(); ++i)
             if (!isChild[i]) roots.push_back(int(i));
     }
-    for (int root : roots) addNode(model, root, glm::mat4(1.0f), mesh, visited, name);
-    return mesh;
+    for (int root : roots) addNode(model, root, glm::mat4(1.0f), nodes, visited, name);
+    return nodes;
 }
 
 std::string lowerExtension(const fs::path& file) {
@@ -376,25 +384,42 @@ std::string lowerExtension(const fs::path& file) {
     return ext;
 }
 
-}  // namespace
-
-Mesh loadMesh(const fs::path& file) {
-    const std::string name = file.string();
+void checkReadable(const fs::path& file, const std::string& name) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw InputError(format("{}: no such file", name));
     if (fs::is_directory(file, ec)) throw InputError(format("{}: is a folder, not a mesh file", name));
     if (fs::file_size(file, ec) == 0 || ec) throw InputError(format("{}: the file is empty", name));
     if (!std::ifstream(file)) throw InputError(format("{}: cannot be read", name));
+}
+
+}  // namespace
+
+Mesh loadMesh(const fs::path& file) {
+    const std::string name = file.string();
+    checkReadable(file, name);
     const std::string ext = lowerExtension(file);
     Mesh mesh;
-    if (ext == ".obj")
+    if (ext == ".obj") {
         mesh = loadObj(file, name);
-    else if (ext == ".gltf" || ext == ".glb")
-        mesh = loadGltf(file, name);
-    else
+    } else if (ext == ".gltf" || ext == ".glb") {
+        mesh.name = file.stem().string();
+        for (const MeshNode& node : loadGltfNodes(file, name)) appendMesh(mesh, node.mesh, node.world);
+    } else {
         throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf or .glb)", name, ext));
+    }
     validateMeshData(mesh, name);
     return mesh;
+}
+
+std::vector<MeshNode> loadMeshNodes(const fs::path& file) {
+    const std::string name = file.string();
+    checkReadable(file, name);
+    const std::string ext = lowerExtension(file);
+    if (ext != ".gltf" && ext != ".glb")
+        throw InputError(format("{}: expected a glTF file (.gltf or .glb), not '{}'", name, ext));
+    std::vector<MeshNode> nodes = loadGltfNodes(file, name);
+    for (const MeshNode& node : nodes) validateMeshData(node.mesh, format("{} (node '{}')", name, node.name));
+    return nodes;
 }
 
 }  // namespace dawnforge

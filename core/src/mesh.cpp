@@ -70,6 +70,8 @@ void validateMeshData(const Mesh& mesh, std::string_view source) {
     checkAttributeSize(mesh.normals, n, source, "normals");
     checkAttributeSize(mesh.uv0, n, source, "uv0");
     checkAttributeSize(mesh.uv1, n, source, "uv1");
+    checkAttributeSize(mesh.uv2, n, source, "uv2");
+    checkAttributeSize(mesh.uv3, n, source, "uv3");
     checkAttributeSize(mesh.materialIds, n, source, "material IDs");
     checkAttributeSize(mesh.pieceIds, n, source, "piece IDs");
     for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
@@ -91,6 +93,8 @@ void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
     grow(dst.normals, src.normals);
     grow(dst.uv0, src.uv0);
     grow(dst.uv1, src.uv1);
+    grow(dst.uv2, src.uv2);
+    grow(dst.uv3, src.uv3);
     grow(dst.materialIds, src.materialIds);
     grow(dst.pieceIds, src.pieceIds);
 
@@ -107,6 +111,8 @@ void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
     };
     copy(dst.uv0, src.uv0);
     copy(dst.uv1, src.uv1);
+    copy(dst.uv2, src.uv2);
+    copy(dst.uv3, src.uv3);
     copy(dst.materialIds, src.materialIds);
     copy(dst.pieceIds, src.pieceIds);
 

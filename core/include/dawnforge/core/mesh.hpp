@@ -26,6 +26,8 @@ struct Mesh {
     std::vector<glm::vec3> normals;         // empty, or one per vertex
     std::vector<glm::vec2> uv0;             // surface UVs (metres for generated content)
     std::vector<glm::vec2> uv1;             // second set (VAT lookup, lightmap)
+    std::vector<glm::vec2> uv2;             // third set (VAT pivot)
+    std::vector<glm::vec2> uv3;             // fourth set (VAT pivot)
     std::vector<std::uint8_t> materialIds;  // empty, or one per vertex, 0..15
     std::vector<std::uint32_t> pieceIds;    // empty, or one per vertex
 
