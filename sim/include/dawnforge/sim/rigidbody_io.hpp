@@ -1,0 +1,48 @@
+#pragma once
+// The files around `dawnforge simulate` (ARCHITECTURE.md, File formats): reading a
+// fracture folder (fracture.json + fragments.glb) and writing / reading a simulation
+// folder (sim.json + transforms.bin, with a copy of fragments.glb so the folder stands
+// on its own).
+#include <dawnforge/sim/rigidbody.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dawnforge {
+
+struct FractureFolder {
+    std::vector<RigidPiece> pieces;  // in fracture.json order; meshes from fragments.glb
+    std::vector<Bond> bonds;
+    std::uint64_t seed = 0;
+};
+
+// Reads DIR/fracture.json and DIR/fragments.glb and checks that they agree (same pieces,
+// same names in order, node translation = centre of mass). Throws InputError naming the
+// file and the problem.
+FractureFolder loadFracture(const std::filesystem::path& dir);
+
+// sim.json: format, version, frames, fps, pieces, substeps, gravity, seed, triggers,
+// ground, glue, solver settings, energy summary, piece names and the transforms layout.
+std::string simulationJson(const SimulationResult& result, const SimulationSettings& settings,
+                           std::span<const RigidPiece> pieces, std::string_view fractureDir);
+
+// transforms.bin: little-endian float32, frame-major, 7 floats per piece per frame.
+std::vector<std::byte> transformsBytes(std::span<const float> transforms);
+
+struct SimulationFolder {
+    int frames = 0;
+    double fps = 0.0;
+    std::vector<std::string> names;  // per piece
+    std::vector<float> transforms;   // frames × pieces × 7
+    std::filesystem::path fragments; // the fragments.glb that belongs to it
+};
+
+// Reads DIR/sim.json and DIR/transforms.bin and checks them against each other (size,
+// finite values, unit quaternions). Throws InputError naming the file and the problem.
+SimulationFolder loadSimulation(const std::filesystem::path& dir);
+
+}  // namespace dawnforge

@@ -1,0 +1,459 @@
+// Rigid-body destruction with Bullet 3.24 (the only Bullet translation unit).
+//
+// Determinism: one single-threaded btDiscreteDynamicsWorld, bodies and constraints added
+// in piece / bond order, a fixed step passed to stepSimulation with maxSubSteps = 0 (no
+// time accumulator), the solver's order randomisation left off. Hulls are built in
+// parallel but each depends on its piece alone.
+#include <dawnforge/sim/rigidbody.hpp>
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/seed.hpp>
+
+#include <btBulletDynamicsCommon.h>
+#include <LinearMath/btConvexHullComputer.h>
+#include <glm/gtc/quaternion.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace dawnforge {
+
+namespace {
+
+btVector3 bt(const glm::dvec3& v) { return btVector3(btScalar(v.x), btScalar(v.y), btScalar(v.z)); }
+glm::dvec3 toGlm(const btVector3& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
+btQuaternion bt(const glm::dquat& q) { return btQuaternion(btScalar(q.x), btScalar(q.y), btScalar(q.z), btScalar(q.w)); }
+glm::dquat toGlm(const btQuaternion& q) { return glm::dquat(double(q.w()), double(q.x()), double(q.y()), double(q.z())); }
+
+// The collision hull of one piece in its principal frame: the convex hull of the mesh,
+// shrunk by the margin (Bullet adds it back), cut down to a vertex budget by farthest
+// point sampling (ties to the lowest index, so the choice is deterministic).
+struct Hull {
+    std::vector<btVector3> points;
+    btScalar margin = 0;
+};
+
+Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, double margin) {
+    std::vector<btScalar> coords;
+    coords.reserve(piece.mesh.positions.size() * 3);
+    const glm::dmat3 toBody = glm::transpose(axes);
+    for (const glm::vec3& p : piece.mesh.positions) {
+        const glm::dvec3 b = toBody * glm::dvec3(p);
+        coords.insert(coords.end(), {btScalar(b.x), btScalar(b.y), btScalar(b.z)});
+    }
+    Hull hull;
+    btConvexHullComputer computer;
+    const btScalar shrunk = computer.compute(coords.data(), int(3 * sizeof(btScalar)), int(coords.size() / 3),
+                                             btScalar(margin), btScalar(0.25));
+    std::vector<btVector3> all;
+    if (shrunk >= 0 && computer.vertices.size() >= 4) {
+        for (int i = 0; i < computer.vertices.size(); ++i) all.push_back(computer.vertices[i]);
+        hull.margin = std::max(shrunk, btScalar(1e-4));
+    } else {  // a flat or tiny piece: keep its points, a small margin
+        for (std::size_t i = 0; i + 2 < coords.size(); i += 3) all.emplace_back(coords[i], coords[i + 1], coords[i + 2]);
+        hull.margin = btScalar(1e-4);
+    }
+    if (int(all.size()) <= budget) {
+        hull.points = std::move(all);
+        return hull;
+    }
+    std::vector<btScalar> nearest(all.size(), std::numeric_limits<btScalar>::max());
+    std::size_t pick = 0;
+    for (std::size_t i = 1; i < all.size(); ++i)
+        if (all[i].length2() > all[pick].length2()) pick = i;
+    for (int n = 0; n < budget; ++n) {
+        hull.points.push_back(all[pick]);
+        std::size_t next = 0;
+        btScalar best = -1;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            nearest[i] = std::min(nearest[i], (all[i] - all[pick]).length2());
+            if (nearest[i] > best) { best = nearest[i]; next = i; }
+        }
+        pick = next;
+    }
+    return hull;
+}
+
+// Everything Bullet needs alive while the world runs. Members are declared so that the
+// world is destroyed first; constraints are removed from the bodies before that.
+struct World {
+    std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    std::vector<std::unique_ptr<btTriangleIndexVertexArray>> triangleArrays;
+    std::vector<std::vector<int>> colliderIndices;
+    std::vector<std::vector<btScalar>> colliderVertices;
+    std::vector<std::unique_ptr<btRigidBody>> bodies;  // pieces first, then projectile / statics
+    std::vector<std::unique_ptr<btTypedConstraint>> constraints;
+    btDefaultCollisionConfiguration configuration;
+    btCollisionDispatcher dispatcher{&configuration};
+    btDbvtBroadphase broadphase;
+    btSequentialImpulseConstraintSolver solver;
+    std::unique_ptr<btDiscreteDynamicsWorld> world =
+        std::make_unique<btDiscreteDynamicsWorld>(&dispatcher, &broadphase, &solver, &configuration);
+
+    ~World() {
+        for (auto& c : constraints) world->removeConstraint(c.get());
+        for (auto& b : bodies) world->removeRigidBody(b.get());
+        world.reset();
+    }
+};
+
+struct BodyInfo {
+    glm::dquat toMesh{1.0, 0.0, 0.0, 0.0};  // body orientation → mesh orientation (conjugate of the principal frame)
+    glm::dvec3 moments{0.0};
+    double mass = 0.0;
+};
+
+double energyOf(const btRigidBody& body, const BodyInfo& info, const glm::dvec3& gravity) {
+    const glm::dvec3 v = toGlm(body.getLinearVelocity());
+    const glm::dvec3 w = toGlm(body.getAngularVelocity());
+    const glm::dquat q = toGlm(body.getCenterOfMassTransform().getRotation());
+    const glm::dvec3 wl = glm::conjugate(q) * w;  // in the principal frame
+    const glm::dvec3 x = toGlm(body.getCenterOfMassPosition());
+    return 0.5 * info.mass * glm::dot(v, v) + 0.5 * glm::dot(info.moments, wl * wl) - info.mass * glm::dot(gravity, x);
+}
+
+void checkSettings(std::span<const RigidPiece> pieces, std::span<const Bond> bonds, const SimulationSettings& s) {
+    if (pieces.empty()) throw InputError("there are no pieces to simulate");
+    if (s.frames < 1) throw InputError(format("frames must be at least 1 (got {})", s.frames));
+    if (!(s.fps > 0.0) || !std::isfinite(s.fps)) throw InputError(format("fps must be positive (got {})", s.fps));
+    if (s.substeps < 1) throw InputError(format("substeps must be at least 1 (got {})", s.substeps));
+    if (s.solverIterations < 1) throw InputError("solver iterations must be at least 1");
+    if (!(s.strength >= 0.0)) throw InputError(format("strength must not be negative (got {})", s.strength));
+    if (!(s.strengthVariation >= 0.0 && s.strengthVariation < 1.0))
+        throw InputError("strength variation must be in [0, 1)");
+    if (s.hullVertices < 4) throw InputError(format("hull vertices must be at least 4 (got {})", s.hullVertices));
+    if (!(s.margin > 0.0)) throw InputError("the collision margin must be positive");
+    if (!(s.triggerTime >= 0.0)) throw InputError("the trigger time must not be negative");
+    if (s.projectile) {
+        const Projectile& p = *s.projectile;
+        if (!(p.mass > 0.0) || !(p.speed >= 0.0) || !(p.radius > 0.0))
+            throw InputError("the projectile needs a positive mass and radius and a non-negative speed");
+        if (!(glm::length(p.direction) > 0.0)) throw InputError("the projectile direction must not be zero");
+    }
+    if (s.explosion && (!(s.explosion->radius > 0.0) || !(s.explosion->impulse >= 0.0)))
+        throw InputError("the explosion needs a positive radius and a non-negative impulse");
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        const RigidPiece& p = pieces[i];
+        if (!(p.mass > 0.0) || !std::isfinite(p.mass))
+            throw InputError(format("piece {} ({}) has mass {}; it must be positive", i, p.name, p.mass));
+        if (p.mesh.positions.empty()) throw InputError(format("piece {} ({}) has no vertices", i, p.name));
+    }
+    for (std::size_t i = 0; i < bonds.size(); ++i)
+        if (bonds[i].a >= pieces.size() || bonds[i].b >= pieces.size() || bonds[i].a == bonds[i].b)
+            throw InputError(format("bond {} joins pieces {} and {}, but there are {} pieces", i, bonds[i].a,
+                                    bonds[i].b, pieces.size()));
+}
+
+}  // namespace
+
+PrincipalInertia principalInertia(const glm::dmat3& inertia) {
+    // Cyclic Jacobi on the symmetric part; converges quadratically for 3×3.
+    double a[3][3];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) a[r][c] = 0.5 * (inertia[c][r] + inertia[r][c]);
+    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int sweep = 0; sweep < 50; ++sweep) {
+        const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        const double scale = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+        if (off <= 1e-30 * scale || off == 0.0) break;
+        for (int p = 0; p < 2; ++p)
+            for (int q = p + 1; q < 3; ++q) {
+                if (a[p][q] == 0.0) continue;
+                const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+                const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+                for (int k = 0; k < 3; ++k) {  // A ← A·J
+                    const double akp = a[k][p], akq = a[k][q];
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; ++k) {  // A ← Jᵀ·A
+                    const double apk = a[p][k], aqk = a[q][k];
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; ++k) {  // V ← V·J
+                    const double vkp = v[k][p], vkq = v[k][q];
+                    v[k][p] = c * vkp - s * vkq;
+                    v[k][q] = s * vkp + c * vkq;
+                }
+            }
+    }
+    PrincipalInertia out;
+    out.moments = {a[0][0], a[1][1], a[2][2]};
+    for (int c = 0; c < 3; ++c) out.axes[c] = glm::dvec3(v[0][c], v[1][c], v[2][c]);
+    if (glm::determinant(out.axes) < 0.0) out.axes[2] = -out.axes[2];
+    return out;
+}
+
+SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bond> bonds,
+                          const SimulationSettings& settings, const ProgressFn& progress) {
+    checkSettings(pieces, bonds, settings);
+    const std::size_t n = pieces.size();
+    const double frameDt = 1.0 / settings.fps;
+    const double dt = frameDt / settings.substeps;
+
+    // Principal frames and hulls (parallel; each piece on its own).
+    std::vector<PrincipalInertia> principal(n);
+    std::vector<Hull> hulls(n);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        principal[i] = principalInertia(pieces[i].inertia);
+        hulls[i] = buildHull(pieces[i], principal[i].axes, settings.hullVertices, settings.margin);
+    });
+
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const RigidPiece& p : pieces)
+        for (const glm::vec3& v : p.mesh.positions) {
+            lo = glm::min(lo, p.centerOfMass + glm::dvec3(v));
+            hi = glm::max(hi, p.centerOfMass + glm::dvec3(v));
+        }
+
+    World w;
+    w.world->setGravity(bt(settings.gravity));
+    btContactSolverInfo& solverInfo = w.world->getSolverInfo();
+    solverInfo.m_numIterations = settings.solverIterations;
+    solverInfo.m_solverMode &= ~SOLVER_RANDMIZE_ORDER;
+    solverInfo.m_splitImpulse = 1;
+
+    SimulationResult result;
+    result.frames = settings.frames;
+    result.fps = settings.fps;
+    result.pieces = n;
+    result.groundHeight = settings.groundHeight.value_or(lo.y);
+
+    std::vector<BodyInfo> info;
+    for (std::size_t i = 0; i < n; ++i) {
+        const RigidPiece& p = pieces[i];
+        const PrincipalInertia& pi = principal[i];
+        for (int c = 0; c < 3; ++c)
+            if (!(pi.moments[c] > 0.0) || !std::isfinite(pi.moments[c]))
+                throw InputError(format("piece {} ({}) has an inertia tensor that is not positive definite", i, p.name));
+        auto shape = std::make_unique<btConvexHullShape>(&hulls[i].points[0].x(), int(hulls[i].points.size()),
+                                                         int(sizeof(btVector3)));
+        shape->setMargin(hulls[i].margin);
+        result.hullVertices.push_back(int(hulls[i].points.size()));
+        const glm::dquat frame = glm::quat_cast(pi.axes);
+        btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(), bt(pi.moments));
+        ci.m_startWorldTransform = btTransform(bt(frame), bt(p.centerOfMass));
+        ci.m_friction = btScalar(settings.friction);
+        ci.m_restitution = btScalar(settings.restitution);
+        ci.m_linearDamping = btScalar(settings.linearDamping);
+        ci.m_angularDamping = btScalar(settings.angularDamping);
+        auto body = std::make_unique<btRigidBody>(ci);
+        // Swept-sphere CCD for small fast pieces: no tunnelling through the ground.
+        glm::dvec3 plo(std::numeric_limits<double>::max()), phi(-std::numeric_limits<double>::max());
+        for (const btVector3& v : hulls[i].points) {
+            plo = glm::min(plo, toGlm(v));
+            phi = glm::max(phi, toGlm(v));
+        }
+        const double small = std::max(1e-3, 0.5 * std::min({phi.x - plo.x, phi.y - plo.y, phi.z - plo.z}));
+        body->setCcdMotionThreshold(btScalar(0.5 * small));
+        body->setCcdSweptSphereRadius(btScalar(0.8 * small));
+        w.world->addRigidBody(body.get());
+        w.shapes.push_back(std::move(shape));
+        w.bodies.push_back(std::move(body));
+        info.push_back({glm::conjugate(frame), pi.moments, p.mass});
+    }
+
+    // Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond
+    // breaks when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending
+    // of a round section of the same area A, radius r, M about the anchor), exceeds its
+    // strength. Bullet's own impulse threshold is not used: it compares each solver row
+    // alone and mixes N·s with N·m·s, so small bonds under bending broke at any strength.
+    // Glued pairs do not collide (their hulls touch along the cut); once broken they do.
+    struct Glue {
+        std::uint32_t a = 0;
+        btVector3 anchorInA;   // anchor in body A's frame
+        double area = 0.0;
+        double radius = 0.0;
+        double strength = 0.0; // Pa, with this bond's variation
+        double restStress = 0.0; // Pa, what the bond carries holding the structure at rest
+    };
+    std::vector<Glue> glue;
+    std::vector<btJointFeedback> feedback(settings.strength > 0.0 ? bonds.size() : 0);
+    for (std::size_t i = 0; i < bonds.size() && settings.strength > 0.0; ++i) {
+        const Bond& b = bonds[i];
+        btRigidBody& A = *w.bodies[b.a];
+        btRigidBody& B = *w.bodies[b.b];
+        const btTransform anchor(btQuaternion::getIdentity(), bt(b.centroid));
+        const btTransform inA = A.getCenterOfMassTransform().inverse() * anchor;
+        const btTransform inB = B.getCenterOfMassTransform().inverse() * anchor;
+        auto joint = std::make_unique<btFixedConstraint>(A, B, inA, inB);
+        joint->setJointFeedback(&feedback[i]);
+        Rng rng(deriveSeed(settings.seed, "bond-strength", i));
+        const double variation = 1.0 + settings.strengthVariation * (2.0 * rng.uniform() - 1.0);
+        const double area = std::max(b.area, 1e-8);
+        glue.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / 3.14159265358979), settings.strength * variation});
+        w.world->addConstraint(joint.get(), true);
+        w.constraints.push_back(std::move(joint));
+    }
+    result.bonds = w.constraints.size();
+    long step = 0;
+    auto glueStress = [&](std::size_t i) {
+        const btRigidBody& A = *w.bodies[glue[i].a];
+        const glm::dvec3 force = toGlm(feedback[i].m_appliedForceBodyA);
+        const glm::dvec3 lever = toGlm(A.getCenterOfMassTransform().getBasis() * glue[i].anchorInA);
+        const glm::dvec3 moment = toGlm(feedback[i].m_appliedTorqueBodyA) - glm::cross(lever, force);
+        return glm::length(force) / glue[i].area + 4.0 * glm::length(moment) / (glue[i].area * glue[i].radius);
+    };
+    auto breakOverloadedGlue = [&] {
+        for (std::size_t i = 0; i < glue.size(); ++i) {
+            btTypedConstraint& joint = *w.constraints[i];
+            if (!joint.isEnabled() || glueStress(i) - glue[i].restStress <= glue[i].strength) continue;
+            joint.setEnabled(false);
+            joint.getRigidBodyA().activate(true);
+            joint.getRigidBodyB().activate(true);
+        }
+    };
+
+    if (settings.ground) {
+        auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(result.groundHeight));
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, plane.get());
+        ci.m_friction = btScalar(settings.friction);
+        ci.m_restitution = btScalar(settings.restitution);
+        auto body = std::make_unique<btRigidBody>(ci);
+        w.world->addRigidBody(body.get());
+        w.shapes.push_back(std::move(plane));
+        w.bodies.push_back(std::move(body));
+    }
+    for (std::size_t c = 0; c < settings.colliders.size(); ++c) {
+        const Mesh& m = settings.colliders[c];
+        auto& vertices = w.colliderVertices.emplace_back();
+        auto& indices = w.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
+        for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
+        auto array = std::make_unique<btTriangleIndexVertexArray>(int(indices.size() / 3), indices.data(),
+                                                                  int(3 * sizeof(int)), int(m.positions.size()),
+                                                                  vertices.data(), int(3 * sizeof(btScalar)));
+        auto shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
+        ci.m_friction = btScalar(settings.friction);
+        auto body = std::make_unique<btRigidBody>(ci);
+        w.world->addRigidBody(body.get());
+        w.triangleArrays.push_back(std::move(array));
+        w.shapes.push_back(std::move(shape));
+        w.bodies.push_back(std::move(body));
+    }
+
+    btRigidBody* projectile = nullptr;
+    BodyInfo projectileInfo;
+    const long triggerStep = std::lround(std::ceil(settings.triggerTime / dt - 1e-9));
+
+    auto totalEnergy = [&] {
+        double e = 0.0;
+        for (std::size_t i = 0; i < n; ++i) e += energyOf(*w.bodies[i], info[i], settings.gravity);
+        if (projectile) e += energyOf(*projectile, projectileInfo, settings.gravity);
+        return e;
+    };
+    auto trigger = [&] {
+        if (settings.collapse)
+            for (auto& c : w.constraints) c->setEnabled(false);
+        if (settings.collapse)
+            for (std::size_t i = 0; i < n; ++i) w.bodies[i]->activate(true);
+        if (settings.explosion) {
+            const Explosion& x = *settings.explosion;
+            const double before = totalEnergy();
+            for (std::size_t i = 0; i < n; ++i) {
+                const glm::dvec3 d = pieces[i].centerOfMass - x.center;
+                const double dist = glm::length(d);
+                if (dist >= x.radius) continue;
+                const double falloff = (1.0 - dist / x.radius) * (1.0 - dist / x.radius);
+                const glm::dvec3 dir = dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0);
+                w.bodies[i]->activate(true);
+                w.bodies[i]->applyCentralImpulse(bt(dir * (x.impulse * falloff)));
+            }
+            result.injectedEnergy += totalEnergy() - before;
+        }
+        if (settings.projectile) {
+            const Projectile& p = *settings.projectile;
+            const glm::dvec3 dir = glm::normalize(p.direction);
+            // Back from the target along the direction until outside the pieces' bounds.
+            double exit = std::numeric_limits<double>::max();
+            for (int a = 0; a < 3; ++a) {
+                if (dir[a] > 1e-12) exit = std::min(exit, (p.target[a] - lo[a]) / dir[a]);
+                if (dir[a] < -1e-12) exit = std::min(exit, (hi[a] - p.target[a]) / -dir[a]);
+            }
+            const glm::dvec3 start = p.target - dir * (std::max(0.0, exit) + p.radius + 0.05);
+            auto shape = std::make_unique<btSphereShape>(btScalar(p.radius));
+            const double moment = 0.4 * p.mass * p.radius * p.radius;
+            btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(),
+                                                        btVector3(btScalar(moment), btScalar(moment), btScalar(moment)));
+            ci.m_startWorldTransform = btTransform(btQuaternion::getIdentity(), bt(start));
+            ci.m_friction = btScalar(settings.friction);
+            ci.m_restitution = btScalar(settings.restitution);
+            auto body = std::make_unique<btRigidBody>(ci);
+            body->setLinearVelocity(bt(dir * p.speed));
+            body->setCcdMotionThreshold(btScalar(0.5 * p.radius));
+            body->setCcdSweptSphereRadius(btScalar(0.9 * p.radius));
+            w.world->addRigidBody(body.get());
+            projectile = body.get();
+            projectileInfo = {glm::dquat(1.0, 0.0, 0.0, 0.0), glm::dvec3(moment), p.mass};
+            result.injectedEnergy += energyOf(*projectile, projectileInfo, settings.gravity);
+            w.shapes.push_back(std::move(shape));
+            w.bodies.push_back(std::move(body));
+        }
+    };
+
+    result.transforms.resize(std::size_t(settings.frames) * n * 7);
+    auto record = [&](int frame) {
+        float* out = result.transforms.data() + std::size_t(frame) * n * 7;
+        for (std::size_t i = 0; i < n; ++i, out += 7) {
+            const btRigidBody& body = *w.bodies[i];
+            const glm::dvec3 x = frame == 0 ? pieces[i].centerOfMass : toGlm(body.getCenterOfMassPosition());
+            glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0)
+                                      : toGlm(body.getCenterOfMassTransform().getRotation()) * info[i].toMesh;
+            q = glm::normalize(q);
+            if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
+            const std::array<double, 7> values{x.x, x.y, x.z, q.x, q.y, q.z, q.w};
+            for (int c = 0; c < 7; ++c) {
+                if (!std::isfinite(values[std::size_t(c)]))
+                    throw std::runtime_error(format("simulate(): piece {} is not finite at frame {}", i, frame));
+                out[c] = float(values[std::size_t(c)]);
+            }
+            result.maxSpeed = std::max(result.maxSpeed, double(body.getLinearVelocity().length()));
+        }
+        result.energy.push_back(totalEnergy() - result.injectedEnergy);
+    };
+
+    // What each bond carries to hold the structure up at rest: a rigid solver spreads a
+    // static load over redundant joints in no physical proportion (small bonds can carry
+    // most of it), so a bond breaks on the stress above this, not on the stress itself.
+    // Measured over a few steps from the rest pose, which is then restored.
+    if (!glue.empty()) {
+        constexpr int kProbeSteps = 8;
+        for (int s = 0; s < kProbeSteps; ++s) {
+            w.world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+            for (std::size_t i = 0; i < glue.size(); ++i) glue[i].restStress = std::max(glue[i].restStress, 1.25 * glueStress(i));
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            btRigidBody& body = *w.bodies[i];
+            body.setCenterOfMassTransform(btTransform(bt(glm::conjugate(info[i].toMesh)), bt(pieces[i].centerOfMass)));
+            body.setLinearVelocity(btVector3(0, 0, 0));
+            body.setAngularVelocity(btVector3(0, 0, 0));
+            body.clearForces();
+            body.setDeactivationTime(0);
+            body.activate(true);
+        }
+    }
+    if (triggerStep == 0) trigger();
+    record(0);
+    for (int frame = 1; frame < settings.frames; ++frame) {
+        for (int s = 0; s < settings.substeps; ++s) {
+            w.world->stepSimulation(btScalar(dt), 0, btScalar(dt));
+            breakOverloadedGlue();
+            ++step;
+            if (step == triggerStep) trigger();
+        }
+        record(frame);
+        if (!progress(double(frame) / double(settings.frames - 1))) throw Cancelled();
+    }
+    for (const auto& c : w.constraints)
+        if (!c->isEnabled()) ++result.brokenBonds;
+    return result;
+}
+
+}  // namespace dawnforge

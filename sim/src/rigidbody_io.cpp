@@ -1,0 +1,235 @@
+#include <dawnforge/sim/rigidbody_io.hpp>
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/import.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+namespace dawnforge {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "transforms.bin is written as native little-endian floats");
+
+nlohmann::json readJson(const fs::path& file, std::string_view what) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec))
+        throw InputError(format("{}: no such file (is {} a {} folder?)", file.string(), file.parent_path().string(), what));
+    std::ifstream in(file);
+    try {
+        return nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(format("{}: not valid JSON ({})", file.string(), e.what()));
+    }
+}
+
+// Typed access that turns a missing key or a wrong type into an InputError naming both.
+template <typename T>
+T get(const nlohmann::json& j, const char* key, const fs::path& file) {
+    if (!j.is_object() || !j.contains(key)) throw InputError(format("{}: '{}' is missing", file.string(), key));
+    try {
+        return j.at(key).get<T>();
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(format("{}: '{}' has the wrong type", file.string(), key));
+    }
+}
+
+glm::dvec3 vec3(const nlohmann::json& j, const char* key, const fs::path& file) {
+    const auto v = get<std::vector<double>>(j, key, file);
+    if (v.size() != 3 || !std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+        throw InputError(format("{}: '{}' must be three finite numbers", file.string(), key));
+    return {v[0], v[1], v[2]};
+}
+
+nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace
+
+FractureFolder loadFracture(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw InputError(format("{}: no such folder", dir.string()));
+    const fs::path jsonFile = dir / "fracture.json";
+    const nlohmann::json j = readJson(jsonFile, "fracture");
+    if (!j.is_object() || j.value("format", "") != "dawnforge.fracture")
+        throw InputError(format("{}: not a dawnforge fracture file (format is not 'dawnforge.fracture')", jsonFile.string()));
+    if (get<int>(j, "version", jsonFile) != 1)
+        throw InputError(format("{}: version {} is not supported (expected 1)", jsonFile.string(), j["version"].dump()));
+
+    FractureFolder out;
+    out.seed = get<std::uint64_t>(j, "seed", jsonFile);
+    const auto pieces = get<nlohmann::json>(j, "pieces", jsonFile);
+    if (!pieces.is_array() || pieces.empty()) throw InputError(format("{}: 'pieces' is empty", jsonFile.string()));
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        const nlohmann::json& p = pieces[i];
+        RigidPiece piece;
+        piece.name = get<std::string>(p, "name", jsonFile);
+        piece.mass = get<double>(p, "mass", jsonFile);
+        if (!(piece.mass > 0.0) || !std::isfinite(piece.mass))
+            throw InputError(format("{}: piece {} has mass {}; it must be positive", jsonFile.string(), i, piece.mass));
+        piece.centerOfMass = vec3(p, "center_of_mass", jsonFile);
+        const auto inertia = get<std::vector<std::vector<double>>>(p, "inertia", jsonFile);
+        if (inertia.size() != 3) throw InputError(format("{}: piece {}: 'inertia' must be 3×3", jsonFile.string(), i));
+        for (int r = 0; r < 3; ++r) {
+            if (inertia[std::size_t(r)].size() != 3)
+                throw InputError(format("{}: piece {}: 'inertia' must be 3×3", jsonFile.string(), i));
+            for (int c = 0; c < 3; ++c) {
+                const double v = inertia[std::size_t(r)][std::size_t(c)];
+                if (!std::isfinite(v)) throw InputError(format("{}: piece {}: 'inertia' is not finite", jsonFile.string(), i));
+                piece.inertia[c][r] = v;  // rows in the file, columns in glm
+            }
+        }
+        out.pieces.push_back(std::move(piece));
+    }
+    for (const nlohmann::json& b : get<nlohmann::json>(j, "bonds", jsonFile)) {
+        Bond bond;
+        const auto a = get<std::int64_t>(b, "a", jsonFile), c = get<std::int64_t>(b, "b", jsonFile);
+        if (a < 0 || c < 0 || std::size_t(a) >= out.pieces.size() || std::size_t(c) >= out.pieces.size() || a == c)
+            throw InputError(format("{}: a bond joins pieces {} and {}, but there are {} pieces", jsonFile.string(), a,
+                                    c, out.pieces.size()));
+        bond.a = std::uint32_t(a);
+        bond.b = std::uint32_t(c);
+        bond.area = get<double>(b, "area", jsonFile);
+        bond.centroid = b.contains("centroid") ? vec3(b, "centroid", jsonFile)
+                                               : 0.5 * (out.pieces[bond.a].centerOfMass + out.pieces[bond.b].centerOfMass);
+        if (!(bond.area >= 0.0)) throw InputError(format("{}: a bond has a negative area", jsonFile.string()));
+        out.bonds.push_back(bond);
+    }
+
+    const fs::path glb = dir / "fragments.glb";
+    if (!fs::is_regular_file(glb, ec)) throw InputError(format("{}: no such file (the fracture folder is incomplete)", glb.string()));
+    std::vector<MeshNode> nodes = loadMeshNodes(glb);
+    if (nodes.size() != out.pieces.size())
+        throw InputError(format("{}: has {} pieces but {} lists {}; they do not belong together", glb.string(),
+                                nodes.size(), jsonFile.string(), out.pieces.size()));
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        RigidPiece& piece = out.pieces[i];
+        if (nodes[i].name != piece.name)
+            throw InputError(format("{}: node {} is '{}' but {} names piece {} '{}'", glb.string(), i, nodes[i].name,
+                                    jsonFile.string(), i, piece.name));
+        const glm::dvec3 t(nodes[i].world[3]);
+        const double tolerance = 1e-5 * std::max(1.0, glm::length(piece.centerOfMass));
+        if (glm::length(t - piece.centerOfMass) > tolerance)
+            throw InputError(format("{}: piece '{}' sits at ({}, {}, {}) but its centre of mass in {} is ({}, {}, {})",
+                                    glb.string(), piece.name, t.x, t.y, t.z, jsonFile.string(), piece.centerOfMass.x,
+                                    piece.centerOfMass.y, piece.centerOfMass.z));
+        piece.mesh = std::move(nodes[i].mesh);
+        for (glm::vec3& p : piece.mesh.positions) p = glm::vec3(glm::dmat3(nodes[i].world) * glm::dvec3(p));
+    }
+    return out;
+}
+
+std::string simulationJson(const SimulationResult& result, const SimulationSettings& settings,
+                           std::span<const RigidPiece> pieces, std::string_view fractureDir) {
+    nlohmann::ordered_json j;
+    j["format"] = "dawnforge.sim";
+    j["version"] = 1;
+    j["fracture"] = std::string(fractureDir);
+    j["frames"] = result.frames;
+    j["fps"] = result.fps;
+    j["pieces"] = result.pieces;
+    j["substeps"] = settings.substeps;
+    j["gravity"] = vec(settings.gravity);
+    j["seed"] = settings.seed;
+    nlohmann::ordered_json triggers = nlohmann::ordered_json::array();
+    if (settings.projectile) {
+        const Projectile& p = *settings.projectile;
+        triggers.push_back({{"type", "projectile"}, {"time", settings.triggerTime}, {"target", vec(p.target)},
+                            {"direction", vec(glm::normalize(p.direction))}, {"mass", p.mass}, {"speed", p.speed},
+                            {"radius", p.radius}});
+    }
+    if (settings.explosion) {
+        const Explosion& x = *settings.explosion;
+        triggers.push_back({{"type", "explosion"}, {"time", settings.triggerTime}, {"center", vec(x.center)},
+                            {"radius", x.radius}, {"impulse", x.impulse}});
+    }
+    if (settings.collapse) triggers.push_back({{"type", "collapse"}, {"time", settings.triggerTime}});
+    j["triggers"] = std::move(triggers);
+    j["ground"] = {{"enabled", settings.ground}, {"height", result.groundHeight}};
+    j["colliders"] = settings.colliders.size();
+    j["glue"] = {{"strength", settings.strength},
+                 {"variation", settings.strengthVariation},
+                 {"bonds", result.bonds},
+                 {"broken", result.brokenBonds}};
+    j["solver"] = {{"iterations", settings.solverIterations}, {"hull_vertices", settings.hullVertices},
+                   {"margin", settings.margin},           {"friction", settings.friction},
+                   {"restitution", settings.restitution}, {"linear_damping", settings.linearDamping},
+                   {"angular_damping", settings.angularDamping}};
+    double maxEnergy = result.energy.empty() ? 0.0 : result.energy.front();
+    for (double e : result.energy) maxEnergy = std::max(maxEnergy, e);
+    j["energy"] = {{"initial", result.energy.empty() ? 0.0 : result.energy.front()},
+                   {"max", maxEnergy},
+                   {"final", result.energy.empty() ? 0.0 : result.energy.back()},
+                   {"injected", result.injectedEnergy}};
+    j["max_speed"] = result.maxSpeed;
+    j["transforms"] = {{"file", "transforms.bin"},
+                       {"layout", "float32 little-endian, frame-major, per piece px py pz qx qy qz qw"}};
+    nlohmann::ordered_json names = nlohmann::ordered_json::array();
+    for (const RigidPiece& p : pieces) names.push_back(p.name);
+    j["piece_names"] = std::move(names);
+    return j.dump(1) + "\n";
+}
+
+std::vector<std::byte> transformsBytes(std::span<const float> transforms) {
+    std::vector<std::byte> bytes(transforms.size_bytes());
+    std::memcpy(bytes.data(), transforms.data(), bytes.size());
+    return bytes;
+}
+
+SimulationFolder loadSimulation(const fs::path& dir) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw InputError(format("{}: no such folder", dir.string()));
+    const fs::path jsonFile = dir / "sim.json";
+    const nlohmann::json j = readJson(jsonFile, "simulation");
+    if (!j.is_object() || j.value("format", "") != "dawnforge.sim")
+        throw InputError(format("{}: not a dawnforge simulation file (format is not 'dawnforge.sim')", jsonFile.string()));
+    SimulationFolder out;
+    out.frames = get<int>(j, "frames", jsonFile);
+    out.fps = get<double>(j, "fps", jsonFile);
+    const auto pieces = get<std::int64_t>(j, "pieces", jsonFile);
+    out.names = get<std::vector<std::string>>(j, "piece_names", jsonFile);
+    if (out.frames < 1) throw InputError(format("{}: frames is {}; it must be at least 1", jsonFile.string(), out.frames));
+    if (!(out.fps > 0.0)) throw InputError(format("{}: fps must be positive", jsonFile.string()));
+    if (pieces < 1 || std::size_t(pieces) != out.names.size())
+        throw InputError(format("{}: 'pieces' ({}) does not match 'piece_names' ({})", jsonFile.string(), pieces,
+                                out.names.size()));
+
+    const fs::path bin = dir / "transforms.bin";
+    if (!fs::is_regular_file(bin, ec)) throw InputError(format("{}: no such file", bin.string()));
+    const std::size_t expected = std::size_t(out.frames) * std::size_t(pieces) * 7;
+    const std::uintmax_t size = fs::file_size(bin, ec);
+    if (ec || size != expected * sizeof(float))
+        throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", bin.string(), size, out.frames,
+                                pieces, expected * sizeof(float)));
+    out.transforms.resize(expected);
+    std::ifstream in(bin, std::ios::binary);
+    in.read(reinterpret_cast<char*>(out.transforms.data()), std::streamsize(expected * sizeof(float)));
+    if (!in) throw InputError(format("{}: cannot be read", bin.string()));
+    for (std::size_t t = 0; t < expected; t += 7) {
+        for (std::size_t c = 0; c < 7; ++c)
+            if (!std::isfinite(out.transforms[t + c]))
+                throw InputError(format("{}: a value of piece {} at frame {} is not finite", bin.string(),
+                                        (t / 7) % std::size_t(pieces), t / 7 / std::size_t(pieces)));
+        const double len = std::sqrt(double(out.transforms[t + 3]) * out.transforms[t + 3] +
+                                     double(out.transforms[t + 4]) * out.transforms[t + 4] +
+                                     double(out.transforms[t + 5]) * out.transforms[t + 5] +
+                                     double(out.transforms[t + 6]) * out.transforms[t + 6]);
+        if (std::abs(len - 1.0) > 1e-3)
+            throw InputError(format("{}: the orientation of piece {} at frame {} is not a unit quaternion",
+                                    bin.string(), (t / 7) % std::size_t(pieces), t / 7 / std::size_t(pieces)));
+    }
+    out.fragments = dir / "fragments.glb";
+    if (!fs::is_regular_file(out.fragments, ec))
+        throw InputError(format("{}: no such file (the simulation folder is incomplete)", out.fragments.string()));
+    return out;
+}
+
+}  // namespace dawnforge
