@@ -3,6 +3,7 @@
 // its own; it wires the stages of the libraries together (ARCHITECTURE.md, cli/).
 #include <filesystem>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,46 @@ struct FractureOptions {
     double voxelSize = 0.0;
 };
 int runFracture(const FractureOptions& options, const CommonOptions& common);
+
+struct SimulateOptions {
+    std::filesystem::path fractureDir;
+    std::filesystem::path outputDir;
+    int frames = 120;
+    double fps = 30.0;
+    int substeps = 4;
+    int iterations = 20;
+    std::uint64_t seed = 1;
+    double strength = 1e6;
+    double strengthVariation = 0.2;
+    double triggerTime = 0.2;
+    double friction = 0.6;
+    double restitution = 0.1;
+    int hullVertices = 48;
+    double margin = 0.01;
+    bool noGround = false;
+    std::optional<double> groundHeight;
+    std::vector<double> projectile;           // empty, or the target x, y, z
+    std::vector<double> projectileDirection;  // empty, or x, y, z
+    double projectileMass = 20000.0;
+    double projectileSpeed = 40.0;
+    double projectileRadius = 1.0;
+    std::vector<double> explosion;            // empty, or the centre x, y, z
+    double explosionRadius = 5.0;
+    double explosionImpulse = 5e5;
+    bool collapse = false;
+    std::vector<std::filesystem::path> colliders;
+};
+int runSimulate(const SimulateOptions& options, const CommonOptions& common);
+
+struct VatOptions {
+    std::filesystem::path simDir;
+    std::filesystem::path outputDir;
+    std::string preset = "native";
+    bool half = false;
+    int maxWidth = 1024;
+    std::string name = "vat";
+};
+int runVat(const VatOptions& options, const CommonOptions& common);
 
 struct DemoOptions {
     std::filesystem::path outputDir;

@@ -23,8 +23,6 @@ struct PlannedCommand {
 // the whole tool, and they say plainly that they are not built yet.
 constexpr PlannedCommand kPlanned[] = {
     {"city", "Generate a city district: DIR/city.glb, DIR/city.json (not built yet)"},
-    {"simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin (not built yet)"},
-    {"vat", "Bake a simulation into vertex animation textures (EXR) (not built yet)"},
     {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
     {"render", "Render a scene headless to PNG (not built yet)"},
     {"view", "Show a scene in a window (not built yet)"},
@@ -89,6 +87,63 @@ int main(int argc, char** argv) {
     fractureCmd->add_option("--threads", threads, "Worker threads (0: all cores); output does not depend on it")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
 
+    cli::SimulateOptions sim;
+    CLI::App* simulateCmd = app.add_subcommand(
+        "simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin (+ a copy of fragments.glb)");
+    simulateCmd->add_option("FRACTURE_DIR", sim.fractureDir, "Folder written by 'dawnforge fracture'")->required();
+    simulateCmd->add_option("-o,--output", sim.outputDir, "Output folder")->required();
+    simulateCmd->add_option("--frames", sim.frames, "Frames to write; frame 0 is the rest pose")
+        ->check(CLI::Range(1, 100000))->capture_default_str();
+    simulateCmd->add_option("--fps", sim.fps, "Frames per second")->check(CLI::PositiveNumber)->capture_default_str();
+    simulateCmd->add_option("--substeps", sim.substeps, "Fixed simulation steps per frame")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    simulateCmd->add_option("--iterations", sim.iterations, "Constraint solver iterations per step")
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+    simulateCmd->add_option("--seed", sim.seed, "Random seed (varies each bond's strength)")->capture_default_str();
+    simulateCmd->add_option("--strength", sim.strength,
+                            "Glue strength (Pa): a bond breaks when its stress (axial + bending) above what it carries at rest exceeds this; 0: no glue")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_option("--strength-variation", sim.strengthVariation, "Relative spread of bond strengths, from the seed")
+        ->check(CLI::Range(0.0, 0.99))->capture_default_str();
+    simulateCmd->add_option("--trigger-time", sim.triggerTime, "When the projectile, explosion or collapse happens (s)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_option("--projectile", sim.projectile, "Throw a ball at this point X,Y,Z (m)")
+        ->delimiter(',')->expected(3);
+    simulateCmd->add_option("--projectile-dir", sim.projectileDirection, "Direction of travel DX,DY,DZ (default -1,0,0)")
+        ->delimiter(',')->expected(3);
+    simulateCmd->add_option("--projectile-mass", sim.projectileMass, "kg")->check(CLI::PositiveNumber)->capture_default_str();
+    simulateCmd->add_option("--projectile-speed", sim.projectileSpeed, "m/s")->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_option("--projectile-radius", sim.projectileRadius, "m")->check(CLI::PositiveNumber)->capture_default_str();
+    simulateCmd->add_option("--explosion", sim.explosion, "Push pieces away from this point X,Y,Z (m)")
+        ->delimiter(',')->expected(3);
+    simulateCmd->add_option("--explosion-radius", sim.explosionRadius, "m")->check(CLI::PositiveNumber)->capture_default_str();
+    simulateCmd->add_option("--explosion-impulse", sim.explosionImpulse, "N·s at the centre, falling off as (1 - d/r)^2")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_flag("--collapse", sim.collapse, "Every bond breaks at the trigger time (gravity collapse)");
+    simulateCmd->add_flag("--no-ground", sim.noGround, "No ground plane");
+    simulateCmd->add_option("--ground-height", sim.groundHeight, "Ground plane height (m); default the lowest point of the pieces");
+    simulateCmd->add_option("--collider", sim.colliders, "Static collider mesh (.obj, .gltf, .glb), world space; repeatable");
+    simulateCmd->add_option("--friction", sim.friction, "")->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_option("--restitution", sim.restitution, "")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    simulateCmd->add_option("--hull-vertices", sim.hullVertices, "Collision hull vertex budget per piece")
+        ->check(CLI::Range(4, 1000))->capture_default_str();
+    simulateCmd->add_option("--margin", sim.margin, "Collision margin (m)")->check(CLI::PositiveNumber)->capture_default_str();
+    simulateCmd->add_option("--threads", threads, "Worker threads (0: all cores); output does not depend on it")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+
+    cli::VatOptions vat;
+    CLI::App* vatCmd = app.add_subcommand(
+        "vat", "Bake a simulation into vertex animation textures (SideFX Labs VAT 3.0 rigid layout): "
+               "DIR/<name>_pos.exr, _rot.exr, _mesh.glb, _data.json");
+    vatCmd->add_option("SIM_DIR", vat.simDir, "Folder written by 'dawnforge simulate'")->required();
+    vatCmd->add_option("-o,--output", vat.outputDir, "Output folder")->required();
+    vatCmd->add_option("--preset", vat.preset, "native (metres, +Y up), unreal (Z-up centimetres) or unity")
+        ->capture_default_str();
+    vatCmd->add_flag("--half", vat.half, "RGBA16F textures instead of RGBA32F");
+    vatCmd->add_option("--max-width", vat.maxWidth, "Texture width limit; more pieces take several rows per frame")
+        ->check(CLI::Range(1, 8192))->capture_default_str();
+    vatCmd->add_option("--name", vat.name, "File name prefix")->capture_default_str();
+
     cli::DemoOptions demo;
     CLI::App* demoCmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
     demoCmd->add_option("-o,--output", demo.outputDir, "Output folder")->required();
@@ -123,6 +178,8 @@ int main(int argc, char** argv) {
         std::optional<tbb::global_control> threadLimit;
         if (threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
         if (fractureCmd->parsed()) return cli::runFracture(fracture, common);
+        if (simulateCmd->parsed()) return cli::runSimulate(sim, common);
+        if (vatCmd->parsed()) return cli::runVat(vat, common);
         if (demoCmd->parsed()) return cli::runDemo(demo, common);
         for (CLI::App* cmd : planned)
             if (cmd->parsed()) {

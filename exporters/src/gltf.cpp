@@ -118,6 +118,8 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
     }
     if (!mesh.uv0.empty()) prim.attributes["TEXCOORD_0"] = buffers.addFloats(mesh.uv0, TINYGLTF_TYPE_VEC2);
     if (!mesh.uv1.empty()) prim.attributes["TEXCOORD_1"] = buffers.addFloats(mesh.uv1, TINYGLTF_TYPE_VEC2);
+    if (!mesh.uv2.empty()) prim.attributes["TEXCOORD_2"] = buffers.addFloats(mesh.uv2, TINYGLTF_TYPE_VEC2);
+    if (!mesh.uv3.empty()) prim.attributes["TEXCOORD_3"] = buffers.addFloats(mesh.uv3, TINYGLTF_TYPE_VEC2);
     if (!mesh.materialIds.empty()) {
         std::vector<glm::u8vec4> colors;
         colors.reserve(mesh.materialIds.size());

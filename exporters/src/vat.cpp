@@ -1,0 +1,348 @@
+// VAT 3.0 rigid-body textures (the only OpenEXR translation unit). Layout and packing as
+// in vat.hpp; read against the public SideFX Labs sources (sideeffects/SideFXLabs: the
+// URP_VAT3 shader graphs, the HDA's presets) and shared/notes/vat3-rigid.md.
+#include <dawnforge/exporters/vat.hpp>
+
+#include <dawnforge/core/atomic_file.hpp>
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/scene.hpp>
+#include <dawnforge/exporters/gltf.hpp>
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <ImfStdIO.h>
+#include <Imath/half.h>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <cstring>
+#include <sstream>
+
+namespace dawnforge {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Engine space = scale × axes × (our / Houdini space: metres, +Y up, right-handed).
+struct Engine {
+    glm::dmat3 axes{1.0};
+    double scale = 1.0;
+    double handedness = 1.0;  // det(axes)
+};
+
+Engine engineOf(VatPreset preset) {
+    switch (preset) {
+        case VatPreset::Native: return {};
+        case VatPreset::Unity: return {glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, 1), 1.0, -1.0};  // (-x, y, z)
+        case VatPreset::Unreal: return {glm::dmat3(1, 0, 0, 0, 0, 1, 0, 1, 0), 100.0, -1.0};  // 100 (x, z, y)
+    }
+    return {};
+}
+
+// Labs packing: index m of the largest-magnitude component in (w, x, y, z) order, the
+// quaternion negated so it is positive, dropped, and w written in its slot.
+struct PackedRotation {
+    glm::dvec3 triple{0.0};
+    int dropped = 0;
+    glm::dquat canonical{1.0, 0.0, 0.0, 0.0};
+};
+
+PackedRotation pack(glm::dquat q) {
+    const std::array<double, 4> c{q.w, q.x, q.y, q.z};
+    int m = 0;
+    for (int i = 1; i < 4; ++i)
+        if (std::abs(c[std::size_t(i)]) > std::abs(c[std::size_t(m)])) m = i;
+    if (c[std::size_t(m)] < 0.0) q = -q;
+    PackedRotation p;
+    p.dropped = m;
+    p.canonical = q;
+    switch (m) {
+        case 0: p.triple = {q.x, q.y, q.z}; break;
+        case 1: p.triple = {q.w, q.y, q.z}; break;
+        case 2: p.triple = {q.x, q.w, q.z}; break;
+        default: p.triple = {q.x, q.y, q.w}; break;
+    }
+    return p;
+}
+
+// The inverse of pack() in our axes (the `native` decoder, used to measure the error).
+glm::dquat unpack(const glm::dvec3& t, int dropped) {
+    const double rebuilt = std::sqrt(std::max(0.0, 1.0 - glm::dot(t, t)));
+    switch (dropped) {
+        case 0: return glm::dquat(rebuilt, t.x, t.y, t.z);
+        case 1: return glm::dquat(t.x, rebuilt, t.y, t.z);
+        case 2: return glm::dquat(t.y, t.x, rebuilt, t.z);
+        default: return glm::dquat(t.z, t.x, t.y, rebuilt);
+    }
+}
+
+float store(double v, bool half) { return half ? float(Imath::half(float(v))) : float(v); }
+
+glm::dquat orientation(std::span<const float> transforms, std::size_t index) {
+    const float* t = transforms.data() + index * 7;
+    return glm::normalize(glm::dquat(t[6], t[3], t[4], t[5]));
+}
+glm::dvec3 position(std::span<const float> transforms, std::size_t index) {
+    const float* t = transforms.data() + index * 7;
+    return {t[0], t[1], t[2]};
+}
+
+nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+// A bound snapped outward to the 0.1 (× engine scale) grid that the Labs shaders expect.
+double snapDown(double v, double s) { return std::floor(v / (0.1 * s) - 1e-9) * 0.1 * s; }
+double snapUp(double v, double s) { return std::ceil(v / (0.1 * s) + 1e-9) * 0.1 * s; }
+
+std::vector<std::byte> exrBytes(const std::vector<float>& rgba, const VatLayout& layout, bool half) {
+    Imf::Header header(layout.width, layout.height);
+    header.compression() = Imf::PIZ_COMPRESSION;
+    header.lineOrder() = Imf::INCREASING_Y;  // row 0 is the top of the image
+    const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+    const char* names[4] = {"R", "G", "B", "A"};
+    for (const char* c : names) header.channels().insert(c, Imf::Channel(type));
+    std::vector<Imath::half> halves;
+    if (half) {
+        halves.resize(rgba.size());
+        for (std::size_t i = 0; i < rgba.size(); ++i) halves[i] = Imath::half(rgba[i]);
+    }
+    Imf::FrameBuffer frame;
+    const std::size_t element = half ? sizeof(Imath::half) : sizeof(float);
+    char* base = half ? reinterpret_cast<char*>(halves.data()) : const_cast<char*>(reinterpret_cast<const char*>(rgba.data()));
+    for (int c = 0; c < 4; ++c)
+        frame.insert(names[c], Imf::Slice(type, base + std::size_t(c) * element, 4 * element, 4 * element * std::size_t(layout.width)));
+    Imf::StdOSStream out;
+    {
+        Imf::OutputFile file(out, header, 1);  // one thread: the bytes do not depend on a pool
+        file.setFrameBuffer(frame);
+        file.writePixels(layout.height);
+    }
+    const std::string bytes = out.str();
+    std::vector<std::byte> result(bytes.size());
+    std::memcpy(result.data(), bytes.data(), bytes.size());
+    return result;
+}
+
+}  // namespace
+
+std::optional<VatPreset> parseVatPreset(std::string_view name) {
+    if (name == "native") return VatPreset::Native;
+    if (name == "unreal") return VatPreset::Unreal;
+    if (name == "unity") return VatPreset::Unity;
+    return std::nullopt;
+}
+
+std::string_view vatPresetName(VatPreset preset) {
+    switch (preset) {
+        case VatPreset::Native: return "native";
+        case VatPreset::Unreal: return "unreal";
+        case VatPreset::Unity: return "unity";
+    }
+    return "native";
+}
+
+VatLayout vatLayout(std::size_t pieces, int frames, int maxWidth) {
+    if (maxWidth < 1 || maxWidth > kVatMaxTextureSize)
+        throw InputError(format("the maximum width must be between 1 and {} (got {})", kVatMaxTextureSize, maxWidth));
+    if (pieces == 0) throw InputError("there are no pieces to bake");
+    if (frames < 1) throw InputError(format("there must be at least one frame (got {})", frames));
+    VatLayout l;
+    l.pieces = pieces;
+    l.frames = frames;
+    l.width = int(std::min<std::size_t>(std::size_t(maxWidth), pieces));
+    const std::size_t rows = (pieces + std::size_t(l.width) - 1) / std::size_t(l.width);
+    if (rows > std::size_t(kVatMaxTextureSize))
+        throw InputError(format("{} pieces need {} rows per frame at width {}: more than the {} a texture can have",
+                                pieces, rows, l.width, kVatMaxTextureSize));
+    l.rowsPerFrame = int(rows);
+    const std::size_t height = rows * std::size_t(frames);
+    if (height > std::size_t(kVatMaxTextureSize))
+        throw InputError(format("{} frames × {} rows per frame = {} rows, more than {}; at most {} frames fit "
+                                "(fewer frames, or a larger --max-width if it is below {})",
+                                frames, rows, height, kVatMaxTextureSize, kVatMaxTextureSize / rows, kVatMaxTextureSize));
+    l.height = int(height);
+    return l;
+}
+
+Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
+    const std::size_t n = animation.pieces.size();
+    Vat vat;
+    vat.layout = vatLayout(n, animation.frames, settings.maxWidth);
+    if (!(animation.fps > 0.0)) throw InputError(format("fps must be positive (got {})", animation.fps));
+    if (animation.transforms.size() != std::size_t(animation.frames) * n * 7)
+        throw InputError(format("the transforms hold {} values, but {} frames of {} pieces need {}",
+                                animation.transforms.size(), animation.frames, n, std::size_t(animation.frames) * n * 7));
+    for (float v : animation.transforms)
+        if (!std::isfinite(v)) throw InputError("the transforms contain a value that is not finite");
+    const VatLayout& L = vat.layout;
+    const Engine engine = engineOf(settings.preset);
+    const glm::dmat3 tripleMap = engine.handedness * engine.axes;  // applied to the packed triple
+    const std::size_t texels = std::size_t(L.width) * std::size_t(L.height);
+    vat.position.assign(texels * 4, 0.0f);
+    vat.rotation.assign(texels * 4, 0.0f);
+
+    std::vector<double> radius(n, 0.0);
+    for (std::size_t j = 0; j < n; ++j)
+        for (const glm::vec3& p : animation.pieces[j].positions) radius[j] = std::max(radius[j], double(glm::length(p)));
+    vat.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
+    vat.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
+
+    for (int k = 0; k < L.frames; ++k) {
+        for (std::size_t j = 0; j < n; ++j) {
+            const std::size_t index = std::size_t(k) * n + j;
+            const glm::dquat rest = orientation(animation.transforms, j);
+            const glm::dquat q = orientation(animation.transforms, index) * glm::conjugate(rest);
+            const glm::dvec3 P = position(animation.transforms, index);
+            const PackedRotation packed = pack(q);
+            double turns = 0.0;
+            if (k + 1 < L.frames) {
+                const PackedRotation next = pack(orientation(animation.transforms, index + n) * glm::conjugate(rest));
+                const double d = glm::dot(packed.canonical, next.canonical);
+                const double angle = 2.0 * std::acos(std::min(1.0, std::abs(d)));
+                if (angle > 1e-6) turns = (d < 0.0 ? -1.0 : 1.0) * angle / (2.0 * kPi);
+                vat.maxTurnsPerFrame = std::max(vat.maxTurnsPerFrame, std::abs(turns));
+            }
+            const glm::dvec3 pe = engine.scale * (engine.axes * P);
+            const glm::dvec3 te = tripleMap * packed.triple;
+            const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
+            float* pos = vat.position.data() + (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+            float* rot = vat.rotation.data() + (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+            for (int c = 0; c < 3; ++c) {
+                pos[c] = store(pe[c], settings.half);
+                rot[c] = store(te[c], settings.half);
+            }
+            pos[3] = store(0.25 * packed.dropped, settings.half);
+            rot[3] = store(turns, settings.half);
+
+            // Decode what was stored (our axes) and measure what the precision cost.
+            const glm::dvec3 storedP(pos[0], pos[1], pos[2]);
+            const glm::dvec3 decodedP = glm::transpose(engine.axes) * storedP / engine.scale;
+            const glm::dvec3 storedT(rot[0], rot[1], rot[2]);
+            const glm::dquat decodedQ = glm::normalize(unpack(glm::transpose(tripleMap) * storedT, int(std::floor(4.0 * pos[3]))));
+            const double positionError = glm::length(decodedP - P);
+            const double rotationError = 2.0 * std::acos(std::min(1.0, std::abs(glm::dot(decodedQ, packed.canonical))));
+            vat.maxPositionError = std::max(vat.maxPositionError, positionError);
+            vat.maxRotationError = std::max(vat.maxRotationError, rotationError);
+            vat.maxVertexError = std::max(vat.maxVertexError, positionError + 2.0 * std::sin(0.5 * rotationError) * radius[j]);
+            vat.boundsMin = glm::min(vat.boundsMin, pe - glm::dvec3(engine.scale * radius[j]));
+            vat.boundsMax = glm::max(vat.boundsMax, pe + glm::dvec3(engine.scale * radius[j]));
+        }
+    }
+
+    // The mesh at frame 0, one lookup texel and one pivot per piece.
+    for (std::size_t j = 0; j < n; ++j) {
+        Mesh piece = animation.pieces[j];
+        const glm::dquat rest = orientation(animation.transforms, j);
+        const glm::dvec3 pivot = position(animation.transforms, j);
+        const std::size_t count = piece.positions.size();
+        for (glm::vec3& p : piece.positions) p = glm::vec3(rest * glm::dvec3(p) + pivot);
+        for (glm::vec3& v : piece.normals) v = glm::vec3(rest * glm::dvec3(v));
+        const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
+                               float((double(j / std::size_t(L.width)) + 0.5) / L.height));
+        const glm::dvec3 p = engine.scale * pivot;  // Houdini axes, engine units
+        piece.uv1.assign(count, lookup);
+        piece.uv2.assign(count, glm::vec2(float(p.x), 0.0f));          // Labs (px, 1), V flipped
+        piece.uv3.assign(count, glm::vec2(float(p.y), float(p.z)));    // Labs (py, 1 - pz), V flipped
+        piece.pieceIds.assign(count, std::uint32_t(j));
+        appendMesh(vat.mesh, piece, glm::mat4(1.0f));
+    }
+    vat.mesh.name = settings.name;
+
+    // Engine presets: bounds on the 0.1 grid with the Labs codes, and the two degenerate
+    // data triangles that carry them in the mesh (lookup UV (0, 0), piece id = pieces).
+    glm::dvec3 lo, hi;
+    const double s = engine.scale;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = snapDown(vat.boundsMin[a], s);
+        hi[a] = snapUp(vat.boundsMax[a], s);
+    }
+    const glm::dvec3 encodedLo = lo - glm::dvec3(0.0, double(L.rowsPerFrame % 100) * 0.001 * s, 0.0);
+    const glm::dvec3 encodedHi = hi + glm::dvec3(0.0, 0.0, (0.5 + 0.01 * double(L.rowsPerFrame / 100)) * 0.1 * s);
+    if (settings.preset != VatPreset::Native) {
+        Mesh data;
+        for (const glm::dvec3& corner : {encodedHi, encodedLo}) {
+            const glm::vec3 p(glm::transpose(engine.axes) * corner / s);  // back to glTF axes, metres
+            const std::uint32_t base = std::uint32_t(data.positions.size());
+            for (int i = 0; i < 3; ++i) data.positions.push_back(p);
+            data.indices.insert(data.indices.end(), {base, base + 1, base + 2});
+        }
+        const std::size_t m = data.positions.size();
+        data.normals.assign(m, glm::vec3(0, 1, 0));
+        data.uv0.assign(m, glm::vec2(0));
+        data.uv1.assign(m, glm::vec2(0, 1));
+        data.uv2.assign(m, glm::vec2(0));
+        data.uv3.assign(m, glm::vec2(0));
+        data.materialIds.assign(m, 0);
+        data.pieceIds.assign(m, std::uint32_t(n));
+        appendMesh(vat.mesh, data, glm::mat4(1.0f));
+    }
+
+    nlohmann::ordered_json j;
+    j["format"] = "dawnforge.vat";
+    j["version"] = 1;
+    j["name"] = settings.name;
+    j["preset"] = std::string(vatPresetName(settings.preset));
+    j["mode"] = "rigid-body dynamics (SideFX Labs VAT 3.0 layout)";
+    j["frames"] = L.frames;
+    j["fps"] = animation.fps;
+    j["pieces"] = n;
+    j["W"] = L.width;
+    j["R"] = L.rowsPerFrame;
+    j["height"] = L.height;
+    j["precision"] = settings.half ? "half" : "float32";
+    j["units"] = settings.preset == VatPreset::Unreal ? "centimetres" : "metres";
+    j["axes"] = settings.preset == VatPreset::Native  ? "+Y up, right-handed (glTF)"
+                : settings.preset == VatPreset::Unity ? "Unity: x mirrored (-x, y, z)"
+                                                       : "Unreal: (x, z, y), Z up";
+    j["bounds"] = {{"min", vec(vat.boundsMin)}, {"max", vec(vat.boundsMax)}};
+    j["encoded_bounds"] = {{"min", vec(encodedLo)}, {"max", vec(encodedHi)}};
+    j["max_turns_per_frame"] = vat.maxTurnsPerFrame;
+    j["max_position_error"] = vat.maxPositionError;
+    j["max_rotation_error"] = vat.maxRotationError;
+    j["max_vertex_error"] = vat.maxVertexError;
+    j["textures"] = {{"position", settings.name + "_pos.exr"},
+                     {"rotation", settings.name + "_rot.exr"},
+                     {"channels", "RGBA"},
+                     {"type", settings.half ? "half" : "float"},
+                     {"compression", "PIZ"},
+                     {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
+    j["mesh"] = {{"file", settings.name + "_mesh.glb"},
+                 {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
+                 {"pivot", "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, engine units (Labs uv3 = (px, 1), "
+                           "uv4 = (py, 1 - pz) with V flipped)"},
+                 {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
+    if (settings.preset == VatPreset::Unity) {
+        // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
+        j["unity_material"] = {{"_B_autoPlayback", 1}, {"_frameCount", L.frames}, {"_playbackSpeed", 1.0},
+                               {"_houdiniFPS", animation.fps},   {"_B_interpolate", 1},
+                               {"_boundMinX", lo.x},             {"_boundMinY", lo.y},
+                               {"_boundMinZ", lo.z},             {"_boundMaxX", hi.x},
+                               {"_boundMaxY", hi.y},             {"_boundMaxZ", hi.z + 0.05 * s}};
+    }
+    vat.dataJson = j.dump(1) + "\n";
+    return vat;
+}
+
+void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir) {
+    ensureOutputDirectory(dir);
+    const std::vector<std::byte> pos = exrBytes(vat.position, vat.layout, settings.half);
+    const std::vector<std::byte> rot = exrBytes(vat.rotation, vat.layout, settings.half);
+    Scene scene;
+    scene.addMeshNode(vat.mesh);
+    scene.nodes[0].name = settings.name;
+    scene.extrasJson = format(R"({{"generator":"dawnforge vat","preset":"{}"}})", vatPresetName(settings.preset));
+    const std::vector<std::byte> glb = encodeGlb(scene);
+    writeFileAtomically(dir / (settings.name + "_pos.exr"), pos);
+    writeFileAtomically(dir / (settings.name + "_rot.exr"), rot);
+    writeFileAtomically(dir / (settings.name + "_mesh.glb"), glb);
+    writeFileAtomically(dir / (settings.name + "_data.json"), std::string_view(vat.dataJson));
+}
+
+}  // namespace dawnforge
