@@ -38,7 +38,7 @@ TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
 }
 
 TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
-    for (const char* cmd : {"city", "simulate", "vat", "bake", "render", "view"})
+    for (const char* cmd : {"city", "bake", "render", "view"})
         expectBadInput({cmd, "-o", "x"}, "not built yet");
 }
 
@@ -217,4 +217,143 @@ TEST(CliFracture, RepairOptionFixesAnOpenMesh) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("filled 1 holes"), std::string::npos) << r.err;
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / "fracture.json"));
+}
+
+namespace {
+
+// A fractured box (12 pieces) in DIR/fracture, the input of simulate.
+void makeFractureFolder(const TempDir& dir) {
+    test::writeObj(dir / "block.obj", makeBox({-2, 0, -1}, {2, 3, 1}));
+    const RunResult r = test::runDawnforge({"fracture", (dir / "block.obj").string(), "-o", (dir / "fracture").string(),
+                                            "--pieces", "12", "--density", "500"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+}
+
+}  // namespace
+
+TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    const RunResult r = test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(),
+                                            "--frames", "40", "--fps", "24", "--projectile", "2,1.5,0",
+                                            "--projectile-mass", "3000", "--projectile-radius", "0.5"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"block.obj", "fracture", "sim"}));
+    const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
+    EXPECT_EQ(j["frames"], 40);
+    EXPECT_EQ(j["fps"], 24.0);
+    EXPECT_EQ(j["pieces"], 12);
+    EXPECT_EQ(j["substeps"], 4);
+    EXPECT_EQ(j["triggers"][0]["type"], "projectile");
+    EXPECT_EQ(j["piece_names"][0], "piece_0000");
+    const auto bin = test::readBytes(dir / "sim" / "transforms.bin");
+    ASSERT_EQ(bin.size(), std::size_t(40 * 12 * 7 * 4));
+    // Frame 0 is the rest pose: each piece at its centre of mass, identity orientation.
+    const nlohmann::json f = nlohmann::json::parse(test::readText(dir / "fracture" / "fracture.json"));
+    std::vector<float> t(bin.size() / 4);
+    std::memcpy(t.data(), bin.data(), bin.size());
+    for (std::size_t i = 0; i < 12; ++i) {
+        for (int k = 0; k < 3; ++k)
+            EXPECT_FLOAT_EQ(t[i * 7 + std::size_t(k)], float(f["pieces"][i]["center_of_mass"][k].get<double>()));
+        EXPECT_EQ(t[i * 7 + 6], 1.0f);
+    }
+    EXPECT_EQ(test::readBytes(dir / "sim" / "fragments.glb"), test::readBytes(dir / "fracture" / "fragments.glb"));
+}
+
+TEST(CliSimulate, SameBytesOnOneAndTwoThreads) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    for (const char* threads : {"1", "2"})
+        ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / threads).string(),
+                                      "--frames", "30", "--explosion", "0,1,0", "--explosion-radius", "2",
+                                      "--threads", threads})
+                      .exitCode,
+                  0);
+    EXPECT_EQ(test::readBytes(dir / "1" / "transforms.bin"), test::readBytes(dir / "2" / "transforms.bin"));
+    EXPECT_EQ(test::readText(dir / "1" / "sim.json"), test::readText(dir / "2" / "sim.json"));
+}
+
+TEST(CliSimulate, BadInputExits2AndWritesNothing) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    const std::string fracture = (dir / "fracture").string(), out = (dir / "out").string();
+    expectBadInput({"simulate", (dir / "missing").string(), "-o", out}, "no such folder");
+    expectBadInput({"simulate", (dir / "block.obj").string(), "-o", out}, "no such folder");
+    expectBadInput({"simulate", fracture, "-o", out, "--frames", "0"}, "--frames");
+    expectBadInput({"simulate", fracture, "-o", out, "--fps", "0"}, "--fps");
+    expectBadInput({"simulate", fracture, "-o", out, "--projectile", "1,2"}, "--projectile");
+    expectBadInput({"simulate", fracture, "-o", out, "--strength", "-1"}, "--strength");
+    // An inconsistent folder: fracture.json lists a piece fragments.glb does not have.
+    std::filesystem::create_directories(dir / "broken");
+    std::filesystem::copy_file(dir / "fracture" / "fragments.glb", dir / "broken" / "fragments.glb");
+    nlohmann::json j = nlohmann::json::parse(test::readText(dir / "fracture" / "fracture.json"));
+    j["pieces"].push_back(j["pieces"][0]);
+    test::writeText(dir / "broken" / "fracture.json", j.dump());
+    expectBadInput({"simulate", (dir / "broken").string(), "-o", out}, "do not belong together");
+    test::writeText(dir / "broken" / "fracture.json", "{\"format\": \"dawnforge.fracture\", \"version\": 1");
+    expectBadInput({"simulate", (dir / "broken").string(), "-o", out}, "not valid JSON");
+    std::filesystem::remove(dir / "broken" / "fracture.json");
+    expectBadInput({"simulate", (dir / "broken").string(), "-o", out}, "fracture.json");
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"block.obj", "broken", "fracture"}));
+}
+
+TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames",
+                                  "20", "--collapse"})
+                  .exitCode,
+              0);
+    for (const char* preset : {"native", "unreal", "unity"}) {
+        const RunResult r = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "vat").string(), "--preset",
+                                                preset, "--name", preset, "--max-width", "5"});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "vat" / (std::string(preset) + "_data.json")));
+        EXPECT_EQ(j["W"], 5);
+        EXPECT_EQ(j["R"], 3);  // 12 pieces at width 5
+        EXPECT_EQ(j["height"], 60);
+        EXPECT_EQ(j["frames"], 20);
+        EXPECT_LT(j["max_vertex_error"].get<double>(), 1e-3);
+        const RunResult v = test::validateGltf(dir / "vat" / (std::string(preset) + "_mesh.glb"));
+        EXPECT_EQ(v.exitCode, 0) << v.out;
+    }
+    const RunResult half = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "half").string(), "--half"});
+    ASSERT_EQ(half.exitCode, 0) << half.err;
+    const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "half" / "vat_data.json"));
+    EXPECT_EQ(j["precision"], "half");
+    EXPECT_GT(j["max_vertex_error"].get<double>(), 0.0);
+}
+
+TEST(CliVat, BadInputExits2AndWritesNothing) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames",
+                                  "1000"})
+                  .exitCode,
+              0);
+    const std::string sim = (dir / "sim").string(), out = (dir / "out").string();
+    // 12 pieces at width 1 take 12 rows per frame: 1000 frames need 12,000 rows; 682 fit.
+    expectBadInput({"vat", sim, "-o", out, "--max-width", "1"}, "at most 682 frames fit");
+    expectBadInput({"vat", sim, "-o", out, "--max-width", "0"}, "--max-width");
+    expectBadInput({"vat", sim, "-o", out, "--preset", "blender"}, "blender");
+    expectBadInput({"vat", (dir / "fracture").string(), "-o", out}, "sim.json");
+    // A simulation that does not match its mesh: transforms.bin cut short.
+    auto bytes = test::readBytes(dir / "sim" / "transforms.bin");
+    bytes.resize(bytes.size() - 28);
+    std::filesystem::create_directories(dir / "short");
+    for (const char* f : {"sim.json", "fragments.glb"}) std::filesystem::copy_file(dir / "sim" / f, dir / "short" / f);
+    test::writeText(dir / "short" / "transforms.bin", std::string(bytes.begin(), bytes.end()));
+    expectBadInput({"vat", (dir / "short").string(), "-o", out}, "transforms.bin");
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST(CliDemo, BakesTheTowerDestruction) {
+    TempDir dir;
+    const RunResult r = test::runDawnforge({"--quiet", "demo", "-o", dir.path().string(), "--floors", "4"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json sim = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
+    EXPECT_GT(sim["glue"]["broken"].get<int>(), 0);
+    for (const char* preset : {"native", "unreal", "unity"})
+        for (const char* suffix : {"_pos.exr", "_rot.exr", "_mesh.glb", "_data.json"})
+            EXPECT_TRUE(std::filesystem::exists(dir / "vat" / (std::string("tower_") + preset + suffix))) << preset << suffix;
 }
