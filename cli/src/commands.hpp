@@ -47,7 +47,7 @@ struct SimulateOptions {
     int frames = 120;
     double fps = 30.0;
     int substeps = 4;
-    int iterations = 20;
+    int iterations = 10;
     std::uint64_t seed = 1;
     double strength = 1e6;
     double strengthVariation = 0.2;

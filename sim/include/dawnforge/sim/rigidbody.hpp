@@ -49,7 +49,7 @@ struct SimulationSettings {
     int frames = 120;                 // frame 0 is the rest pose
     double fps = 30.0;
     int substeps = 4;                 // fixed Bullet steps per frame
-    int solverIterations = 20;
+    int solverIterations = 10;       // Bullet's default
     std::uint64_t seed = 1;           // varies each bond's strength by ±strengthVariation
     glm::dvec3 gravity{0.0, -9.81, 0.0};
     bool ground = true;
