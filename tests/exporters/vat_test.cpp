@@ -369,7 +369,9 @@ void checkDecodesTheAnimation(VatPreset preset, bool half) {
     EXPECT_EQ(data.at("height"), H);
     EXPECT_EQ(data.at("precision"), half ? "half" : "float32");
     const double maxVertexError = data.at("max_vertex_error").get<double>();
-    const double tolerance = half ? (maxVertexError + 1e-5) * s : 1e-3 * s;
+    // float32: the issue asks for 1 mm; we hold 0.01 mm (measured worst 2.4e-7 m), so a
+    // texture accidentally rounded to half would fail. half: within the stated error.
+    const double tolerance = half ? (maxVertexError + 1e-5) * s : 1e-5 * s;
     if (half) {
         EXPECT_GT(maxVertexError, 0.0);
     }
