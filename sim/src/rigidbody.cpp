@@ -228,6 +228,10 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
             hi = glm::max(hi, p.centerOfMass + glm::dvec3(v));
         }
 
+    // Bodies slower than Bullet's thresholds (0.8 m/s, 1 rad/s) for a second fall asleep
+    // (Bullet's default is two): rubble at rest costs nothing. A library global, always
+    // set to the same value here.
+    gDeactivationTime = btScalar(1.0);
     World w;
     w.world->setGravity(bt(settings.gravity));
     btContactSolverInfo& solverInfo = w.world->getSolverInfo();
