@@ -263,3 +263,17 @@ TEST(Rigidbody, BadSettingsAreInputErrors) {
     massless[0].mass = 0.0;
     EXPECT_THROW(simulate(massless, {}, s), InputError);
 }
+
+// A static collider (a 1 m high platform) catches a piece dropped onto it; no ground.
+TEST(Rigidbody, StaticCollidersCatchPieces) {
+    Mesh cube = makeBox({-0.5f, 4.0f, -0.5f}, {0.5f, 5.0f, 0.5f});
+    std::vector<RigidPiece> pieces{pieceFromMesh(cube, 1000.0, "piece_0000")};
+    SimulationSettings s;
+    s.frames = 90;
+    s.ground = false;
+    s.colliders.push_back(makeBox({-3, 0, -3}, {3, 1, 3}));
+    const SimulationResult r = simulate(pieces, {}, s);
+    EXPECT_NEAR(positionAt(r, 89, 0).y, 1.5, 0.03);  // resting on the platform's top
+    s.colliders.clear();
+    EXPECT_LT(positionAt(simulate(pieces, {}, s), 89, 0).y, -10.0);  // without it, it falls
+}
