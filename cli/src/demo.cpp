@@ -72,17 +72,15 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
         motion = simulate(rigid, pieces.bonds, sim, progress.callback());
     }
     const auto simDir = options.outputDir / "sim";
-    ensureOutputDirectory(simDir);
-    writeFileAtomically(simDir / "transforms.bin", transformsBytes(motion.transforms));
+    writeSimulation(simDir, motion, sim, rigid, fractureDir.string());
     writeGlb(fractureScene(pieces), simDir / "fragments.glb");
-    writeFileAtomically(simDir / "sim.json", simulationJson(motion, sim, rigid, fractureDir.string()));
     std::printf("wrote %s: %d frames, %zu of %zu bonds broke\n", (simDir / "sim.json").string().c_str(), motion.frames,
                 motion.brokenBonds, motion.bonds);
 
     // Bake it for our runtime and for the Labs shaders in Unreal and Unity.
     std::vector<Mesh> meshes;
     for (const FracturePiece& p : pieces.pieces) meshes.push_back(p.mesh);
-    VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps};
+    VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
     for (VatPreset preset : {VatPreset::Native, VatPreset::Unreal, VatPreset::Unity}) {
         VatSettings vat;
         vat.preset = preset;

@@ -72,18 +72,15 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     }
     const std::vector<std::byte> fragments = readBytes(options.fractureDir / "fragments.glb");
 
-    ensureOutputDirectory(options.outputDir);
-    writeFileAtomically(options.outputDir / "transforms.bin", transformsBytes(result.transforms));
+    writeSimulation(options.outputDir, result, settings, fracture.pieces, options.fractureDir.string());
     writeFileAtomically(options.outputDir / "fragments.glb", fragments);
-    writeFileAtomically(options.outputDir / "sim.json",
-                        simulationJson(result, settings, fracture.pieces, options.fractureDir.string()));
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("simulated %zu pieces for %d frames at %g fps (%d substeps) in %.2f s\n", result.pieces,
                 result.frames, result.fps, settings.substeps, seconds);
     std::printf("  %zu of %zu bonds broke; fastest piece %.2f m/s\n", result.brokenBonds, result.bonds, result.maxSpeed);
-    std::printf("  wrote %s, %s and a copy of fragments.glb\n", (options.outputDir / "sim.json").string().c_str(),
-                (options.outputDir / "transforms.bin").string().c_str());
+    std::printf("  wrote %s, transforms.bin, turns.bin and a copy of fragments.glb\n",
+                (options.outputDir / "sim.json").string().c_str());
     return 0;
 }
 

@@ -49,6 +49,7 @@ int runVat(const VatOptions& options, const CommonOptions&) {
     animation.transforms = sim.transforms;
     animation.frames = sim.frames;
     animation.fps = sim.fps;
+    animation.turns = sim.turns;
     const Vat vat = encodeVat(animation, settings);
     writeVat(vat, settings, options.outputDir);
 

@@ -181,6 +181,11 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
                                 animation.transforms.size(), animation.frames, n, std::size_t(animation.frames) * n * 7));
     for (float v : animation.transforms)
         if (!std::isfinite(v)) throw InputError("the transforms contain a value that is not finite");
+    if (!animation.turns.empty() && animation.turns.size() != std::size_t(animation.frames) * n)
+        throw InputError(format("the turns hold {} values, but {} frames of {} pieces need {}", animation.turns.size(),
+                                animation.frames, n, std::size_t(animation.frames) * n));
+    for (float v : animation.turns)
+        if (!std::isfinite(v)) throw InputError("the turns contain a value that is not finite");
     const VatLayout& L = vat.layout;
     const Engine engine = engineOf(settings.preset);
     const glm::dmat3 tripleMap = engine.handedness * engine.axes;  // applied to the packed triple
@@ -203,10 +208,18 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
             const PackedRotation packed = pack(q);
             double turns = 0.0;
             if (k + 1 < L.frames) {
-                const PackedRotation next = pack(orientation(animation.transforms, index + n) * glm::conjugate(rest));
+                const glm::dquat nextQ = orientation(animation.transforms, index + n) * glm::conjugate(rest);
+                const PackedRotation next = pack(nextQ);
                 const double d = glm::dot(packed.canonical, next.canonical);
-                const double angle = 2.0 * std::acos(std::min(1.0, std::abs(d)));
-                if (angle > 1e-6) turns = (d < 0.0 ? -1.0 : 1.0) * angle / (2.0 * kPi);
+                if (!animation.turns.empty()) {
+                    // The path runs from q(k) to ±q(k+1) as written; packing may have
+                    // negated either end, which flips the sign the shader needs.
+                    const double flip = (glm::dot(packed.canonical, q) < 0.0) != (glm::dot(next.canonical, nextQ) < 0.0) ? -1.0 : 1.0;
+                    turns = flip * double(animation.turns[index]);
+                } else {
+                    turns = (d < 0.0 ? -1.0 : 1.0) * std::acos(std::min(1.0, std::abs(d))) / kPi;
+                }
+                if (std::abs(turns) < 1e-6 / (2.0 * kPi)) turns = 0.0;
                 vat.maxTurnsPerFrame = std::max(vat.maxTurnsPerFrame, std::abs(turns));
             }
             const glm::dvec3 pe = engine.scale * (engine.axes * P);

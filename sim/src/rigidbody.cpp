@@ -441,6 +441,8 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     };
 
     result.transforms.resize(std::size_t(settings.frames) * n * 7);
+    result.turns.assign(std::size_t(settings.frames) * n, 0.0f);
+    std::vector<glm::dquat> recorded(n);  // the orientations written for the last frame
     auto record = [&](int frame) {
         float* out = result.transforms.data() + std::size_t(frame) * n * 7;
         for (std::size_t i = 0; i < n; ++i, out += 7) {
@@ -450,6 +452,7 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
                                       : toGlm(body.getCenterOfMassTransform().getRotation()) * info[i].toMesh;
             q = glm::normalize(q);
             if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
+            recorded[i] = q;
             const std::array<double, 7> values{x.x, x.y, x.z, q.x, q.y, q.z, q.w};
             for (int c = 0; c < 7; ++c) {
                 if (!std::isfinite(values[std::size_t(c)]))
@@ -483,14 +486,34 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     }
     if (triggerStep == 0) trigger();
     record(0);
+    // Turns along the path: each substep's rotation (always far below half a turn) is
+    // added up, following the quaternion continuously from the last recorded one, so a
+    // piece spinning more than half a turn per frame is told apart from one turning back.
+    std::vector<glm::dquat> path(n);
+    std::vector<double> travelled(n);
     for (int frame = 1; frame < settings.frames; ++frame) {
+        for (std::size_t i = 0; i < n; ++i) {
+            path[i] = recorded[i];
+            travelled[i] = 0.0;
+        }
         for (int s = 0; s < settings.substeps; ++s) {
             w.world->stepSimulation(btScalar(dt), 0, btScalar(dt));
             breakOverloadedGlue();
             ++step;
             if (step == triggerStep) trigger();
+            for (std::size_t i = 0; i < n; ++i) {
+                glm::dquat q = glm::normalize(toGlm(w.bodies[i]->getCenterOfMassTransform().getRotation()) * info[i].toMesh);
+                const double d = glm::dot(q, path[i]);
+                if (d < 0.0) q = -q;
+                travelled[i] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
+                path[i] = q;
+            }
         }
         record(frame);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double turns = travelled[i] / (2.0 * 3.14159265358979323846);
+            result.turns[std::size_t(frame - 1) * n + i] = float(glm::dot(path[i], recorded[i]) < 0.0 ? -turns : turns);
+        }
         if (!progress(double(frame) / double(settings.frames - 1))) throw Cancelled();
     }
     for (const auto& c : w.constraints)

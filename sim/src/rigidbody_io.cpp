@@ -1,5 +1,6 @@
 #include <dawnforge/sim/rigidbody_io.hpp>
 
+#include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
@@ -172,16 +173,20 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
     j["max_speed"] = result.maxSpeed;
     j["transforms"] = {{"file", "transforms.bin"},
                        {"layout", "float32 little-endian, frame-major, per piece px py pz qx qy qz qw"}};
+    j["turns"] = {{"file", "turns.bin"},
+                  {"layout", "float32 little-endian, frame-major, per piece the signed turns to the next frame"}};
     nlohmann::ordered_json names = nlohmann::ordered_json::array();
     for (const RigidPiece& p : pieces) names.push_back(p.name);
     j["piece_names"] = std::move(names);
     return j.dump(1) + "\n";
 }
 
-std::vector<std::byte> transformsBytes(std::span<const float> transforms) {
-    std::vector<std::byte> bytes(transforms.size_bytes());
-    std::memcpy(bytes.data(), transforms.data(), bytes.size());
-    return bytes;
+void writeSimulation(const fs::path& dir, const SimulationResult& result, const SimulationSettings& settings,
+                     std::span<const RigidPiece> pieces, std::string_view fractureDir) {
+    ensureOutputDirectory(dir);
+    writeFileAtomically(dir / "transforms.bin", std::as_bytes(std::span<const float>(result.transforms)));
+    writeFileAtomically(dir / "turns.bin", std::as_bytes(std::span<const float>(result.turns)));
+    writeFileAtomically(dir / "sim.json", simulationJson(result, settings, pieces, fractureDir));
 }
 
 SimulationFolder loadSimulation(const fs::path& dir) {
@@ -225,6 +230,19 @@ SimulationFolder loadSimulation(const fs::path& dir) {
         if (std::abs(len - 1.0) > 1e-3)
             throw InputError(format("{}: the orientation of piece {} at frame {} is not a unit quaternion",
                                     bin.string(), (t / 7) % std::size_t(pieces), t / 7 / std::size_t(pieces)));
+    }
+    const fs::path turns = dir / "turns.bin";
+    if (fs::exists(turns, ec)) {
+        const std::size_t count = std::size_t(out.frames) * std::size_t(pieces);
+        if (fs::file_size(turns, ec) != count * sizeof(float))
+            throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", turns.string(),
+                                    fs::file_size(turns, ec), out.frames, pieces, count * sizeof(float)));
+        out.turns.resize(count);
+        std::ifstream t(turns, std::ios::binary);
+        t.read(reinterpret_cast<char*>(out.turns.data()), std::streamsize(count * sizeof(float)));
+        if (!t) throw InputError(format("{}: cannot be read", turns.string()));
+        for (float v : out.turns)
+            if (!std::isfinite(v)) throw InputError(format("{}: a value is not finite", turns.string()));
     }
     out.fragments = dir / "fragments.glb";
     if (!fs::is_regular_file(out.fragments, ec))

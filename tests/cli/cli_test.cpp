@@ -248,6 +248,7 @@ TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
     EXPECT_EQ(j["piece_names"][0], "piece_0000");
     const auto bin = test::readBytes(dir / "sim" / "transforms.bin");
     ASSERT_EQ(bin.size(), std::size_t(40 * 12 * 7 * 4));
+    EXPECT_EQ(test::readBytes(dir / "sim" / "turns.bin").size(), std::size_t(40 * 12 * 4));
     // Frame 0 is the rest pose: each piece at its centre of mass, identity orientation.
     const nlohmann::json f = nlohmann::json::parse(test::readText(dir / "fracture" / "fracture.json"));
     std::vector<float> t(bin.size() / 4);

@@ -72,18 +72,23 @@ double angleBetween(const glm::dvec4& a, const glm::dvec4& b) {
 // quaternions flip hemisphere: a negative dot), piece 3 turns 130° per frame, piece 4 is
 // half a turn about −(1, 1, 0) at frame 6 (x and y tie, both negative), piece 5 only
 // translates and piece 6 starts from a non-identity orientation.
+// With `spinFast`, piece 3 turns 250° per frame instead (more than half a turn), and the
+// animation carries the turns along each piece's path, as the simulation's turns.bin does.
+struct Motion {
+    glm::dvec3 pivot, velocity, axis;
+    double degreesPerFrame;
+    glm::dquat rest;
+};
+
 struct Animation {
     std::vector<Mesh> pieces;
     std::vector<float> transforms;
+    std::vector<float> turns;
+    std::array<Motion, kPieces> motions;
 
-    Animation() {
-        struct Motion {
-            glm::dvec3 pivot, velocity, axis;
-            double degreesPerFrame;
-            glm::dquat rest;
-        };
+    explicit Animation(bool spinFast = false) {
         const glm::dquat identity(1.0, 0.0, 0.0, 0.0);
-        const std::array<Motion, kPieces> motions{{
+        motions = {{
             {{0.5, 1.0, -0.4}, {0.10, 0.05, 0.02}, {1, 2, 3}, 12.0, identity},
             {{-1.2, 0.8, 0.3}, {-0.05, 0.08, 0.04}, {-1, 0, 0}, 20.0, identity},
             {{0.0, 2.0, 1.5}, {0.02, -0.03, -0.06}, {0, 1, 0}, 15.0, identity},
@@ -93,6 +98,7 @@ struct Animation {
             {{-2.0, 1.0, 2.0}, {0.06, -0.02, -0.09},
              {0.3, -0.5, 0.8}, 30.0, glm::angleAxis(glm::radians(40.0), glm::normalize(glm::dvec3(0, 1, 1)))},
         }};
+        if (spinFast) motions[3].degreesPerFrame = 250.0;
         for (int j = 0; j < kPieces; ++j) {
             const float h = 0.1f + 0.03f * float(j);
             pieces.push_back(makeBox({-h, -0.15f, -0.2f}, {h, 0.15f, 0.2f + 0.02f * float(j)}));
@@ -107,8 +113,12 @@ struct Animation {
                 for (double v : {p.x, p.y, p.z, q.x, q.y, q.z, q.w}) transforms.push_back(float(v));
             }
         }
+        // Each path ends at the next frame's quaternion as written: positive turns.
+        if (spinFast)
+            for (int k = 0; k < kFrames; ++k)
+                for (const Motion& m : motions) turns.push_back(k + 1 < kFrames ? float(std::abs(m.degreesPerFrame) / 360.0) : 0.0f);
     }
-    VatAnimation view() const { return {pieces, transforms, kFrames, kFps}; }
+    VatAnimation view() const { return {pieces, transforms, kFrames, kFps, turns}; }
 
     // What the encoder was given, in double.
     glm::dvec3 position(int k, int j) const {
@@ -592,6 +602,37 @@ TEST(Vat, UnityInterpolatesAlongTheShortestPath) {
         }
     }
     EXPECT_GT(slerped, 0);
+}
+
+// With the simulated turns, the same Labs slerp follows a piece spinning 250° per frame
+// (the shortest way would turn it 110° backwards): at t = 0.5 it has turned 125°.
+TEST(Vat, UnityInterpolatesAlongTheSimulatedPath) {
+    const Animation animation(true);
+    const Baked baked(animation, VatPreset::Unity, false);
+    const Decoder decode(baked, VatPreset::Unity);
+    const Mesh& m = decode.imported;
+    EXPECT_GT(baked.data.at("max_turns_per_frame").get<double>(), 0.69);
+    const float t = 0.5f;
+    for (int j = 0; j < kPieces; ++j) {
+        const std::size_t i = std::size_t(std::find(m.pieceIds.begin(), m.pieceIds.end(), std::uint32_t(j)) - m.pieceIds.begin());
+        ASSERT_LT(i, m.pieceIds.size());
+        const Motion& motion = animation.motions[std::size_t(j)];
+        for (int k = 0; k + 1 < kFrames; ++k) {
+            const Decoded d0 = decode(i, k), d1 = decode(i, k + 1);
+            glm::vec4 q = d0.q;
+            if (d0.turns != 0.0f) {
+                const float turns = std::abs(d0.turns), f = frac(turns), g = frac(turns * t);
+                const float sign = d0.turns > 0.0f ? 1.0f : -1.0f;
+                q = glm::normalize((d0.q * std::sin(3.14159265f * (f - g)) + sign * d1.q * std::sin(3.14159265f * g)) /
+                                   std::sin(3.14159265f * f));
+            }
+            const glm::dquat expected = glm::angleAxis(glm::radians(motion.degreesPerFrame * (k + double(t))),
+                                                       glm::normalize(motion.axis)) *
+                                        motion.rest * glm::conjugate(animation.orientation(0, j));
+            EXPECT_LT(angleBetween(glm::dvec4(q), toEngine(VatPreset::Unity, glm::normalize(expected))), 1e-3)
+                << "piece " << j << " between frames " << k << " and " << k + 1;
+        }
+    }
 }
 
 TEST(Vat, ExrheaderReadsTheTextures) {

@@ -277,3 +277,33 @@ TEST(Rigidbody, StaticCollidersCatchPieces) {
     s.colliders.clear();
     EXPECT_LT(positionAt(simulate(pieces, {}, s), 89, 0).y, -10.0);  // without it, it falls
 }
+
+// Turns follow the path: a bar set spinning, sampled at 30 fps and at 3.75 fps with the
+// same step, turns as much per slow frame as over the eight fast frames it spans, more
+// than half a turn, which the poses alone cannot tell from turning back.
+TEST(Rigidbody, TurnsAddUpAlongThePath) {
+    Mesh bar = makeBox({-1.0f, -0.1f, -0.1f}, {1.0f, 0.1f, 0.1f});
+    std::vector<RigidPiece> pieces{pieceFromMesh(bar, 500.0, "piece_0000")};
+    SimulationSettings fast;
+    fast.gravity = glm::dvec3(0.0);
+    fast.ground = false;
+    fast.triggerTime = 0.0;
+    fast.projectile = Projectile{{0.95, 0.0, 0.0}, {0.0, 0.0, -1.0}, 2000.0, 60.0, 0.1};
+    fast.frames = 81;
+    SimulationSettings slow = fast;
+    slow.fps = 3.75;
+    slow.substeps = 32;
+    slow.frames = 11;
+    const SimulationResult a = simulate(pieces, {}, fast);
+    const SimulationResult b = simulate(pieces, {}, slow);
+    double most = 0.0;
+    for (int k = 0; k + 1 < b.frames; ++k) {
+        EXPECT_EQ(positionAt(b, k, 0), positionAt(a, 8 * k, 0));  // the same steps
+        double sum = 0.0;
+        for (int j = 8 * k; j < 8 * k + 8; ++j) sum += std::abs(a.turns[std::size_t(j)]);
+        EXPECT_NEAR(std::abs(b.turns[std::size_t(k)]), sum, 1e-4) << "frame " << k;
+        most = std::max(most, double(std::abs(b.turns[std::size_t(k)])));
+    }
+    EXPECT_GT(most, 0.5);
+    EXPECT_EQ(b.turns.back(), 0.0f);
+}

@@ -57,6 +57,10 @@ struct VatAnimation {
     std::span<const float> transforms;
     int frames = 0;
     double fps = 0.0;
+    // Optional, frames × pieces: signed turns from each frame to the next along the
+    // simulated path (the simulation's turns.bin). Empty: the shortest way between poses,
+    // which cannot show more than half a turn per frame.
+    std::span<const float> turns = {};
 };
 
 struct Vat {

@@ -76,6 +76,10 @@ struct SimulationResult {
     // frames × pieces × (px py pz qx qy qz qw): world pivot position and orientation,
     // the layout of transforms.bin. Frame 0 is the rest pose (identity orientations).
     std::vector<float> transforms;
+    // frames × pieces: the rotation from frame k to k+1 along the simulated path, in turns,
+    // negative when that path ends at the negated quaternion of frame k+1 as written
+    // (turns.bin; the VAT rotation alpha). The last frame's are 0.
+    std::vector<float> turns;
     // Per frame: kinetic + potential energy of every body (projectile included) minus the
     // energy the triggers put in so far (J). Without numerical gain it never rises above frame 0.
     std::vector<double> energy;

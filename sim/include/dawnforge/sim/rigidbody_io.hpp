@@ -30,18 +30,23 @@ FractureFolder loadFracture(const std::filesystem::path& dir);
 std::string simulationJson(const SimulationResult& result, const SimulationSettings& settings,
                            std::span<const RigidPiece> pieces, std::string_view fractureDir);
 
-// transforms.bin: little-endian float32, frame-major, 7 floats per piece per frame.
-std::vector<std::byte> transformsBytes(std::span<const float> transforms);
+// Writes DIR/transforms.bin (little-endian float32, frame-major, 7 floats per piece per
+// frame), DIR/turns.bin (float32, frames × pieces) and DIR/sim.json, each atomically.
+// The copy of fragments.glb is the caller's to write.
+void writeSimulation(const std::filesystem::path& dir, const SimulationResult& result,
+                     const SimulationSettings& settings, std::span<const RigidPiece> pieces,
+                     std::string_view fractureDir);
 
 struct SimulationFolder {
     int frames = 0;
     double fps = 0.0;
     std::vector<std::string> names;  // per piece
     std::vector<float> transforms;   // frames × pieces × 7
+    std::vector<float> turns;        // frames × pieces, or empty when turns.bin is absent
     std::filesystem::path fragments; // the fragments.glb that belongs to it
 };
 
-// Reads DIR/sim.json and DIR/transforms.bin and checks them against each other (size,
+// Reads DIR/sim.json, DIR/transforms.bin and DIR/turns.bin if present, and checks them against each other (size,
 // finite values, unit quaternions). Throws InputError naming the file and the problem.
 SimulationFolder loadSimulation(const std::filesystem::path& dir);
 
