@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
 
     cli::SimulateOptions sim;
     CLI::App* simulateCmd = app.add_subcommand(
-        "simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin (+ a copy of fragments.glb)");
+        "simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, DIR/transforms.bin, DIR/turns.bin (+ a copy of fragments.glb)");
     simulateCmd->add_option("FRACTURE_DIR", sim.fractureDir, "Folder written by 'dawnforge fracture'")->required();
     simulateCmd->add_option("-o,--output", sim.outputDir, "Output folder")->required();
     simulateCmd->add_option("--frames", sim.frames, "Frames to write; frame 0 is the rest pose")
@@ -123,8 +123,8 @@ int main(int argc, char** argv) {
     simulateCmd->add_flag("--no-ground", sim.noGround, "No ground plane");
     simulateCmd->add_option("--ground-height", sim.groundHeight, "Ground plane height (m); default the lowest point of the pieces");
     simulateCmd->add_option("--collider", sim.colliders, "Static collider mesh (.obj, .gltf, .glb), world space; repeatable");
-    simulateCmd->add_option("--friction", sim.friction, "")->check(CLI::NonNegativeNumber)->capture_default_str();
-    simulateCmd->add_option("--restitution", sim.restitution, "")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    simulateCmd->add_option("--friction", sim.friction, "Friction coefficient of pieces, ground and colliders")->check(CLI::NonNegativeNumber)->capture_default_str();
+    simulateCmd->add_option("--restitution", sim.restitution, "Bounciness (0: none, 1: elastic)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
     simulateCmd->add_option("--hull-vertices", sim.hullVertices, "Collision hull vertex budget per piece")
         ->check(CLI::Range(4, 1000))->capture_default_str();
     simulateCmd->add_option("--margin", sim.margin, "Collision margin (m)")->check(CLI::PositiveNumber)->capture_default_str();
