@@ -282,10 +282,11 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
 
     // Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond
     // breaks when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending
-    // of a round section of the same area A, radius r, M about the anchor), exceeds its
-    // strength. Bullet's own impulse threshold is not used: it compares each solver row
-    // alone and mixes N·s with N·m·s, so small bonds under bending broke at any strength.
-    // Glued pairs do not collide (their hulls touch along the cut); once broken they do.
+    // of a round section of the same area A, radius r, M about the anchor) exceeds what
+    // it carries at rest (measured below) by more than its strength. Bullet's own impulse
+    // threshold is not used: it compares each solver row alone and mixes N·s with N·m·s,
+    // so small bonds under bending broke at any strength. Pieces of one glued cluster do
+    // not collide (ClusterDispatcher); once a break splits the cluster, they do.
     struct Glue {
         std::uint32_t a = 0;
         btVector3 anchorInA;   // anchor in body A's frame
