@@ -29,10 +29,8 @@ const Fixture& fixture() {
         fs.pieces = 500;
         fs.density = 300.0;
         out.fracture = fractureMesh(makeTower(8, 3.2f, 12.0f, 10.0f), fs);
-        for (const FracturePiece& p : out.fracture.pieces) {
-            out.pieces.push_back({p.name, p.mesh, p.mass.mass, p.mass.centerOfMass, p.mass.inertia});
-            out.meshes.push_back(p.mesh);
-        }
+        out.pieces = rigidPieces(out.fracture);
+        for (const RigidPiece& p : out.pieces) out.meshes.push_back(p.mesh);
         out.settings.frames = 240;
         out.settings.fps = 30.0;
         out.settings.substeps = 4;

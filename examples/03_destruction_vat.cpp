@@ -29,12 +29,9 @@ int main(int argc, char** argv) {
     const FractureResult pieces = fractureMesh(makeBox({-2, 0, -2}, {2, 6, 2}), fracture);
 
     // Bodies are the pieces as fracture describes them: mesh about the centre of mass.
-    std::vector<RigidPiece> bodies;
+    const std::vector<RigidPiece> bodies = rigidPieces(pieces);
     std::vector<Mesh> meshes;
-    for (const FracturePiece& p : pieces.pieces) {
-        bodies.push_back({p.name, p.mesh, p.mass.mass, p.mass.centerOfMass, p.mass.inertia});
-        meshes.push_back(p.mesh);
-    }
+    for (const RigidPiece& b : bodies) meshes.push_back(b.mesh);
     // The bonds glue neighbours; a 2 t ball at 30 m/s breaks the ones it loads too much.
     SimulationSettings sim;
     sim.frames = 90;

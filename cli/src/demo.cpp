@@ -51,15 +51,14 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     const FractureResult pieces = fractureMesh(scene.meshes[1], fracture);
     const auto fractureDir = options.outputDir / "fracture";
     ensureOutputDirectory(fractureDir);
-    writeGlb(fractureScene(pieces), fractureDir / "fragments.glb");
+    const std::vector<std::byte> fragments = encodeGlb(fractureScene(pieces));  // also copied into sim/
+    writeFileAtomically(fractureDir / "fragments.glb", fragments);
     writeFileAtomically(fractureDir / "fracture.json", fractureJson(pieces, fracture, "built-in tower"));
     std::printf("wrote %s: the tower in %zu pieces with %zu bonds\n", (fractureDir / "fragments.glb").string().c_str(),
                 pieces.pieces.size(), pieces.bonds.size());
 
     // Knock it down: a 20 t ball at 40 m/s into the +x wall at mid-height, 0.2 s in; 8 s at 30 fps.
-    std::vector<RigidPiece> rigid;
-    for (const FracturePiece& p : pieces.pieces)
-        rigid.push_back({p.name, p.mesh, p.mass.mass, p.mass.centerOfMass, p.mass.inertia});
+    const std::vector<RigidPiece> rigid = rigidPieces(pieces);
     SimulationSettings sim;
     sim.frames = 240;
     sim.strength = 3e5;  // weak masonry: it stands on its own (tested) and falls when hit
@@ -74,13 +73,13 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     }
     const auto simDir = options.outputDir / "sim";
     writeSimulation(simDir, motion, sim, rigid, fractureDir.string());
-    writeGlb(fractureScene(pieces), simDir / "fragments.glb");
+    writeFileAtomically(simDir / "fragments.glb", fragments);
     std::printf("wrote %s: %d frames, %zu of %zu bonds broke\n", (simDir / "sim.json").string().c_str(), motion.frames,
                 motion.brokenBonds, motion.bonds);
 
     // Bake it for our runtime and for the Labs shaders in Unreal and Unity.
     std::vector<Mesh> meshes;
-    for (const FracturePiece& p : pieces.pieces) meshes.push_back(p.mesh);
+    for (const RigidPiece& p : rigid) meshes.push_back(p.mesh);
     VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
     for (VatPreset preset : {VatPreset::Native, VatPreset::Unreal, VatPreset::Unity}) {
         VatSettings vat;

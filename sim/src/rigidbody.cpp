@@ -166,6 +166,14 @@ void checkSettings(std::span<const RigidPiece> pieces, std::span<const Bond> bon
 
 }  // namespace
 
+std::vector<RigidPiece> rigidPieces(const FractureResult& fracture) {
+    std::vector<RigidPiece> out;
+    out.reserve(fracture.pieces.size());
+    for (const FracturePiece& p : fracture.pieces)
+        out.push_back({p.name, p.mesh, p.mass.mass, p.mass.centerOfMass, p.mass.inertia});
+    return out;
+}
+
 PrincipalInertia principalInertia(const glm::dmat3& inertia) {
     // Cyclic Jacobi on the symmetric part; converges quadratically for 3×3.
     double a[3][3];

@@ -34,13 +34,6 @@ RigidPiece pieceFromMesh(const Mesh& world, double density, std::string name) {
     return p;
 }
 
-std::vector<RigidPiece> piecesOf(const FractureResult& r) {
-    std::vector<RigidPiece> out;
-    for (const FracturePiece& f : r.pieces)
-        out.push_back({f.name, f.mesh, f.mass.mass, f.mass.centerOfMass, f.mass.inertia});
-    return out;
-}
-
 glm::dvec3 positionAt(const SimulationResult& r, int frame, std::size_t piece) {
     const float* t = r.transforms.data() + (std::size_t(frame) * r.pieces + piece) * 7;
     return {t[0], t[1], t[2]};
@@ -125,7 +118,7 @@ TEST(Rigidbody, DroppedBoxRestsOnTheGroundWithFrameZeroAtRest) {
 }
 
 TEST(Rigidbody, GlueHoldsATowerUpUntilItCollapses) {
-    const std::vector<RigidPiece> pieces = piecesOf(smallTower());
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     ASSERT_GE(pieces.size(), 10u);
     SimulationSettings s;
     s.frames = 90;
@@ -147,7 +140,7 @@ TEST(Rigidbody, GlueHoldsATowerUpUntilItCollapses) {
 }
 
 TEST(Rigidbody, ProjectileBreaksBondsNearItsTarget) {
-    const std::vector<RigidPiece> pieces = piecesOf(smallTower());
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;
     s.frames = 60;
     Projectile p;
@@ -167,7 +160,7 @@ TEST(Rigidbody, ProjectileBreaksBondsNearItsTarget) {
 }
 
 TEST(Rigidbody, ExplosionPushesPiecesAwayFromItsCentre) {
-    const std::vector<RigidPiece> pieces = piecesOf(smallTower());
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;
     s.frames = 10;
     s.strength = 0.0;
@@ -198,7 +191,7 @@ TEST(Rigidbody, StableOverManySeeds) {
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
         f.seed = seed;
         const FractureResult fr = fractureMesh(block, f);
-        const std::vector<RigidPiece> pieces = piecesOf(fr);
+        const std::vector<RigidPiece> pieces = rigidPieces(fr);
         SimulationSettings s;
         s.seed = seed;
         s.frames = 75;
@@ -229,7 +222,7 @@ TEST(Rigidbody, StableOverManySeeds) {
 }
 
 TEST(Rigidbody, SameInputsSameBytesOnAnyThreadCount) {
-    const std::vector<RigidPiece> pieces = piecesOf(smallTower());
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;
     s.frames = 45;
     s.projectile = Projectile{{3.0, 4.5, 0.0}, {-1.0, 0.0, 0.2}, 10000.0, 30.0, 0.8};
@@ -248,7 +241,7 @@ TEST(Rigidbody, SameInputsSameBytesOnAnyThreadCount) {
 }
 
 TEST(Rigidbody, BadSettingsAreInputErrors) {
-    const std::vector<RigidPiece> pieces = piecesOf(smallTower());
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;
     s.frames = 0;
     EXPECT_THROW(simulate(pieces, {}, s), InputError);

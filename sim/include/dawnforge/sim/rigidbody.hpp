@@ -27,6 +27,9 @@ struct RigidPiece {
     glm::dmat3 inertia{0.0};       // kg·m^2 about the centre of mass, world axes
 };
 
+// The pieces of a fracture result as bodies: the same meshes, masses and inertia.
+std::vector<RigidPiece> rigidPieces(const FractureResult& fracture);
+
 // A ball thrown at `target`: it appears outside the pieces' bounds at the trigger time,
 // on the line through `target` along `direction`, moving at `speed`.
 struct Projectile {
