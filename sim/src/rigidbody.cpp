@@ -12,6 +12,7 @@
 
 #include <btBulletDynamicsCommon.h>
 #include <LinearMath/btConvexHullComputer.h>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <tbb/parallel_for.h>
 
@@ -317,7 +318,7 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
         Rng rng(deriveSeed(settings.seed, "bond-strength", i));
         const double variation = 1.0 + settings.strengthVariation * (2.0 * rng.uniform() - 1.0);
         const double area = std::max(b.area, 1e-8);
-        glue.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / 3.14159265358979), settings.strength * variation});
+        glue.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), settings.strength * variation});
         w.world->addConstraint(joint.get(), true);
         w.constraints.push_back(std::move(joint));
     }
@@ -449,6 +450,10 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
         }
     };
 
+    // A piece's mesh orientation: its body's with the principal frame taken back out.
+    auto meshOrientation = [&](std::size_t i) {
+        return glm::normalize(toGlm(w.bodies[i]->getCenterOfMassTransform().getRotation()) * info[i].toMesh);
+    };
     result.transforms.resize(std::size_t(settings.frames) * n * 7);
     result.turns.assign(std::size_t(settings.frames) * n, 0.0f);
     std::vector<glm::dquat> recorded(n);  // the orientations written for the last frame
@@ -457,9 +462,7 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
         for (std::size_t i = 0; i < n; ++i, out += 7) {
             const btRigidBody& body = *w.bodies[i];
             const glm::dvec3 x = frame == 0 ? pieces[i].centerOfMass : toGlm(body.getCenterOfMassPosition());
-            glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0)
-                                      : toGlm(body.getCenterOfMassTransform().getRotation()) * info[i].toMesh;
-            q = glm::normalize(q);
+            glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : meshOrientation(i);
             if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
             recorded[i] = q;
             const std::array<double, 7> values{x.x, x.y, x.z, q.x, q.y, q.z, q.w};
@@ -511,7 +514,7 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
             ++step;
             if (step == triggerStep) trigger();
             for (std::size_t i = 0; i < n; ++i) {
-                glm::dquat q = glm::normalize(toGlm(w.bodies[i]->getCenterOfMassTransform().getRotation()) * info[i].toMesh);
+                glm::dquat q = meshOrientation(i);
                 const double d = glm::dot(q, path[i]);
                 if (d < 0.0) q = -q;
                 travelled[i] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
@@ -520,7 +523,7 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
         }
         record(frame);
         for (std::size_t i = 0; i < n; ++i) {
-            const double turns = travelled[i] / (2.0 * 3.14159265358979323846);
+            const double turns = travelled[i] / glm::two_pi<double>();
             result.turns[std::size_t(frame - 1) * n + i] = float(glm::dot(path[i], recorded[i]) < 0.0 ? -turns : turns);
         }
         if (!progress(double(frame) / double(settings.frames - 1))) throw Cancelled();
