@@ -33,6 +33,32 @@ nlohmann::json readJson(const fs::path& file, std::string_view what) {
     }
 }
 
+// DIR/<file> of a dawnforge folder: the folder exists, the JSON parses and names `formatName`.
+nlohmann::json readFolderJson(const fs::path& dir, const char* file, const char* formatName, std::string_view what) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw InputError(format("{}: no such folder", dir.string()));
+    const fs::path jsonFile = dir / file;
+    nlohmann::json j = readJson(jsonFile, what);
+    if (!j.is_object() || j.value("format", "") != formatName)
+        throw InputError(format("{}: not a dawnforge {} file (format is not '{}')", jsonFile.string(), what, formatName));
+    return j;
+}
+
+// A float32 file of `frames` × `pieces` × `perPiece` values, size checked before reading.
+std::vector<float> readFloats(const fs::path& file, int frames, std::int64_t pieces, std::size_t perPiece) {
+    const std::size_t count = std::size_t(frames) * std::size_t(pieces) * perPiece;
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (ec || size != count * sizeof(float))
+        throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", file.string(), size, frames,
+                                pieces, count * sizeof(float)));
+    std::vector<float> values(count);
+    std::ifstream in(file, std::ios::binary);
+    in.read(reinterpret_cast<char*>(values.data()), std::streamsize(count * sizeof(float)));
+    if (!in) throw InputError(format("{}: cannot be read", file.string()));
+    return values;
+}
+
 // Typed access that turns a missing key or a wrong type into an InputError naming both.
 template <typename T>
 T get(const nlohmann::json& j, const char* key, const fs::path& file) {
@@ -57,11 +83,8 @@ nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 FractureFolder loadFracture(const fs::path& dir) {
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw InputError(format("{}: no such folder", dir.string()));
     const fs::path jsonFile = dir / "fracture.json";
-    const nlohmann::json j = readJson(jsonFile, "fracture");
-    if (!j.is_object() || j.value("format", "") != "dawnforge.fracture")
-        throw InputError(format("{}: not a dawnforge fracture file (format is not 'dawnforge.fracture')", jsonFile.string()));
+    const nlohmann::json j = readFolderJson(dir, "fracture.json", "dawnforge.fracture", "fracture");
     if (get<int>(j, "version", jsonFile) != 1)
         throw InputError(format("{}: version {} is not supported (expected 1)", jsonFile.string(), j["version"].dump()));
 
@@ -191,11 +214,8 @@ void writeSimulation(const fs::path& dir, const SimulationResult& result, const 
 
 SimulationFolder loadSimulation(const fs::path& dir) {
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw InputError(format("{}: no such folder", dir.string()));
     const fs::path jsonFile = dir / "sim.json";
-    const nlohmann::json j = readJson(jsonFile, "simulation");
-    if (!j.is_object() || j.value("format", "") != "dawnforge.sim")
-        throw InputError(format("{}: not a dawnforge simulation file (format is not 'dawnforge.sim')", jsonFile.string()));
+    const nlohmann::json j = readFolderJson(dir, "sim.json", "dawnforge.sim", "simulation");
     SimulationFolder out;
     out.frames = get<int>(j, "frames", jsonFile);
     out.fps = get<double>(j, "fps", jsonFile);
@@ -209,16 +229,8 @@ SimulationFolder loadSimulation(const fs::path& dir) {
 
     const fs::path bin = dir / "transforms.bin";
     if (!fs::is_regular_file(bin, ec)) throw InputError(format("{}: no such file", bin.string()));
-    const std::size_t expected = std::size_t(out.frames) * std::size_t(pieces) * 7;
-    const std::uintmax_t size = fs::file_size(bin, ec);
-    if (ec || size != expected * sizeof(float))
-        throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", bin.string(), size, out.frames,
-                                pieces, expected * sizeof(float)));
-    out.transforms.resize(expected);
-    std::ifstream in(bin, std::ios::binary);
-    in.read(reinterpret_cast<char*>(out.transforms.data()), std::streamsize(expected * sizeof(float)));
-    if (!in) throw InputError(format("{}: cannot be read", bin.string()));
-    for (std::size_t t = 0; t < expected; t += 7) {
+    out.transforms = readFloats(bin, out.frames, pieces, 7);
+    for (std::size_t t = 0; t < out.transforms.size(); t += 7) {
         for (std::size_t c = 0; c < 7; ++c)
             if (!std::isfinite(out.transforms[t + c]))
                 throw InputError(format("{}: a value of piece {} at frame {} is not finite", bin.string(),
@@ -233,14 +245,7 @@ SimulationFolder loadSimulation(const fs::path& dir) {
     }
     const fs::path turns = dir / "turns.bin";
     if (fs::exists(turns, ec)) {
-        const std::size_t count = std::size_t(out.frames) * std::size_t(pieces);
-        if (fs::file_size(turns, ec) != count * sizeof(float))
-            throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", turns.string(),
-                                    fs::file_size(turns, ec), out.frames, pieces, count * sizeof(float)));
-        out.turns.resize(count);
-        std::ifstream t(turns, std::ios::binary);
-        t.read(reinterpret_cast<char*>(out.turns.data()), std::streamsize(count * sizeof(float)));
-        if (!t) throw InputError(format("{}: cannot be read", turns.string()));
+        out.turns = readFloats(turns, out.frames, pieces, 1);
         for (float v : out.turns)
             if (!std::isfinite(v)) throw InputError(format("{}: a value is not finite", turns.string()));
     }
