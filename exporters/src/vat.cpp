@@ -199,24 +199,29 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     vat.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
     vat.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
 
-    for (int k = 0; k < L.frames; ++k) {
-        for (std::size_t j = 0; j < n; ++j) {
+    // Piece by piece, frame by frame: each orientation is packed once and carried on as
+    // the next frame's start.
+    for (std::size_t j = 0; j < n; ++j) {
+        const glm::dquat rest = orientation(animation.transforms, j);
+        const auto relative = [&](int k) { return orientation(animation.transforms, std::size_t(k) * n + j) * glm::conjugate(rest); };
+        glm::dquat q = relative(0);
+        PackedRotation packed = pack(q);
+        for (int k = 0; k < L.frames; ++k) {
             const std::size_t index = std::size_t(k) * n + j;
-            const glm::dquat rest = orientation(animation.transforms, j);
-            const glm::dquat q = orientation(animation.transforms, index) * glm::conjugate(rest);
             const glm::dvec3 P = position(animation.transforms, index);
-            const PackedRotation packed = pack(q);
+            glm::dquat nextQ = q;
+            PackedRotation next = packed;
             double turns = 0.0;
             if (k + 1 < L.frames) {
-                const glm::dquat nextQ = orientation(animation.transforms, index + n) * glm::conjugate(rest);
-                const PackedRotation next = pack(nextQ);
-                const double d = glm::dot(packed.canonical, next.canonical);
+                nextQ = relative(k + 1);
+                next = pack(nextQ);
                 if (!animation.turns.empty()) {
                     // The path runs from q(k) to ±q(k+1) as written; packing may have
                     // negated either end, which flips the sign the shader needs.
                     const double flip = (glm::dot(packed.canonical, q) < 0.0) != (glm::dot(next.canonical, nextQ) < 0.0) ? -1.0 : 1.0;
                     turns = flip * double(animation.turns[index]);
                 } else {
+                    const double d = glm::dot(packed.canonical, next.canonical);
                     turns = (d < 0.0 ? -1.0 : 1.0) * std::acos(std::min(1.0, std::abs(d))) / kPi;
                 }
                 if (std::abs(turns) < 1e-6 / (2.0 * kPi)) turns = 0.0;
@@ -225,8 +230,9 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
             const glm::dvec3 pe = engine.scale * (engine.axes * P);
             const glm::dvec3 te = tripleMap * packed.triple;
             const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
-            float* pos = vat.position.data() + (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
-            float* rot = vat.rotation.data() + (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+            const std::size_t texel = (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+            float* pos = vat.position.data() + texel;
+            float* rot = vat.rotation.data() + texel;
             for (int c = 0; c < 3; ++c) {
                 pos[c] = store(pe[c], settings.half);
                 rot[c] = store(te[c], settings.half);
@@ -246,6 +252,8 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
             vat.maxVertexError = std::max(vat.maxVertexError, positionError + 2.0 * std::sin(0.5 * rotationError) * radius[j]);
             vat.boundsMin = glm::min(vat.boundsMin, pe - glm::dvec3(engine.scale * radius[j]));
             vat.boundsMax = glm::max(vat.boundsMax, pe + glm::dvec3(engine.scale * radius[j]));
+            q = nextQ;
+            packed = next;
         }
     }
 
