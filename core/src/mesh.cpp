@@ -88,15 +88,19 @@ void validateMeshData(const Mesh& mesh, std::string_view source) {
 void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
     const std::size_t base = dst.positions.size();
     const std::size_t total = base + src.positions.size();
-    // The result has an attribute where either side has it.
-    auto grow = [&](auto& d, const auto& s) { resizeAttribute(d, base, total, !s.empty()); };
-    grow(dst.normals, src.normals);
-    grow(dst.uv0, src.uv0);
-    grow(dst.uv1, src.uv1);
-    grow(dst.uv2, src.uv2);
-    grow(dst.uv3, src.uv3);
-    grow(dst.materialIds, src.materialIds);
-    grow(dst.pieceIds, src.pieceIds);
+    // The result has an attribute where either side has it; the other side's part is
+    // filled by resizeAttribute. Attributes other than normals are copied as they are.
+    resizeAttribute(dst.normals, base, total, !src.normals.empty());
+    auto carry = [&](auto& d, const auto& s) {
+        resizeAttribute(d, base, total, !s.empty());
+        for (std::size_t i = 0; i < s.size(); ++i) d[base + i] = s[i];
+    };
+    carry(dst.uv0, src.uv0);
+    carry(dst.uv1, src.uv1);
+    carry(dst.uv2, src.uv2);
+    carry(dst.uv3, src.uv3);
+    carry(dst.materialIds, src.materialIds);
+    carry(dst.pieceIds, src.pieceIds);
 
     const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(transform));
     dst.positions.reserve(total);
@@ -106,16 +110,6 @@ void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
         const float len = glm::length(n);
         dst.normals[base + i] = len > 0.0f ? n / len : n;
     }
-    auto copy = [&](auto& d, const auto& s) {
-        for (std::size_t i = 0; i < s.size(); ++i) d[base + i] = s[i];
-    };
-    copy(dst.uv0, src.uv0);
-    copy(dst.uv1, src.uv1);
-    copy(dst.uv2, src.uv2);
-    copy(dst.uv3, src.uv3);
-    copy(dst.materialIds, src.materialIds);
-    copy(dst.pieceIds, src.pieceIds);
-
     // A mirroring transform turns the winding inside out: restore counter-clockwise.
     const bool mirrored = glm::determinant(glm::mat3(transform)) < 0.0f;
     dst.indices.reserve(dst.indices.size() + src.indices.size());
