@@ -59,6 +59,36 @@ std::vector<float> readFloats(const fs::path& file, int frames, std::int64_t pie
     return values;
 }
 
+// DIR/fragments.glb's meshes, one per piece in order, relative to each pivot, world axes.
+// The nodes must be the pieces `names` in order, each at its pivot within float rounding;
+// `source` is the file that lists them.
+std::vector<Mesh> loadFragments(const fs::path& dir, std::span<const std::string> names,
+                                std::span<const glm::dvec3> pivots, const fs::path& source, std::string_view what) {
+    const fs::path glb = dir / "fragments.glb";
+    std::error_code ec;
+    if (!fs::is_regular_file(glb, ec))
+        throw InputError(format("{}: no such file (the {} folder is incomplete)", glb.string(), what));
+    std::vector<MeshNode> nodes = loadMeshNodes(glb);
+    if (nodes.size() != names.size())
+        throw InputError(format("{}: has {} pieces but {} lists {}; they do not belong together", glb.string(),
+                                nodes.size(), source.string(), names.size()));
+    std::vector<Mesh> meshes;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        if (nodes[i].name != names[i])
+            throw InputError(format("{}: node {} is '{}' but {} names piece {} '{}'", glb.string(), i, nodes[i].name,
+                                    source.string(), i, names[i]));
+        const glm::dvec3 t(nodes[i].world[3]);
+        const glm::dvec3& pivot = pivots[i];
+        if (glm::length(t - pivot) > 1e-5 * std::max(1.0, glm::length(pivot)))
+            throw InputError(format("{}: piece '{}' sits at ({}, {}, {}) but {} puts its pivot at ({}, {}, {})",
+                                    glb.string(), names[i], t.x, t.y, t.z, source.string(), pivot.x, pivot.y, pivot.z));
+        Mesh mesh = std::move(nodes[i].mesh);
+        for (glm::vec3& p : mesh.positions) p = glm::vec3(glm::dmat3(nodes[i].world) * glm::dvec3(p));
+        meshes.push_back(std::move(mesh));
+    }
+    return meshes;
+}
+
 // Typed access that turns a missing key or a wrong type into an InputError naming both.
 template <typename T>
 T get(const nlohmann::json& j, const char* key, const fs::path& file) {
@@ -128,26 +158,14 @@ FractureFolder loadFracture(const fs::path& dir) {
         out.bonds.push_back(bond);
     }
 
-    const fs::path glb = dir / "fragments.glb";
-    if (!fs::is_regular_file(glb, ec)) throw InputError(format("{}: no such file (the fracture folder is incomplete)", glb.string()));
-    std::vector<MeshNode> nodes = loadMeshNodes(glb);
-    if (nodes.size() != out.pieces.size())
-        throw InputError(format("{}: has {} pieces but {} lists {}; they do not belong together", glb.string(),
-                                nodes.size(), jsonFile.string(), out.pieces.size()));
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-        RigidPiece& piece = out.pieces[i];
-        if (nodes[i].name != piece.name)
-            throw InputError(format("{}: node {} is '{}' but {} names piece {} '{}'", glb.string(), i, nodes[i].name,
-                                    jsonFile.string(), i, piece.name));
-        const glm::dvec3 t(nodes[i].world[3]);
-        const double tolerance = 1e-5 * std::max(1.0, glm::length(piece.centerOfMass));
-        if (glm::length(t - piece.centerOfMass) > tolerance)
-            throw InputError(format("{}: piece '{}' sits at ({}, {}, {}) but its centre of mass in {} is ({}, {}, {})",
-                                    glb.string(), piece.name, t.x, t.y, t.z, jsonFile.string(), piece.centerOfMass.x,
-                                    piece.centerOfMass.y, piece.centerOfMass.z));
-        piece.mesh = std::move(nodes[i].mesh);
-        for (glm::vec3& p : piece.mesh.positions) p = glm::vec3(glm::dmat3(nodes[i].world) * glm::dvec3(p));
+    std::vector<std::string> names;
+    std::vector<glm::dvec3> pivots;
+    for (const RigidPiece& p : out.pieces) {
+        names.push_back(p.name);
+        pivots.push_back(p.centerOfMass);
     }
+    std::vector<Mesh> meshes = loadFragments(dir, names, pivots, jsonFile, "fracture");
+    for (std::size_t i = 0; i < meshes.size(); ++i) out.pieces[i].mesh = std::move(meshes[i]);
     return out;
 }
 
@@ -249,9 +267,9 @@ SimulationFolder loadSimulation(const fs::path& dir) {
         for (float v : out.turns)
             if (!std::isfinite(v)) throw InputError(format("{}: a value is not finite", turns.string()));
     }
-    out.fragments = dir / "fragments.glb";
-    if (!fs::is_regular_file(out.fragments, ec))
-        throw InputError(format("{}: no such file (the simulation folder is incomplete)", out.fragments.string()));
+    std::vector<glm::dvec3> rest;  // frame 0: where each piece's pivot starts
+    for (std::size_t i = 0; i < out.names.size(); ++i) rest.push_back(glm::dvec3(out.transforms[i * 7], out.transforms[i * 7 + 1], out.transforms[i * 7 + 2]));
+    out.meshes = loadFragments(dir, out.names, rest, jsonFile, "simulation");
     return out;
 }
 

@@ -43,10 +43,11 @@ struct SimulationFolder {
     std::vector<std::string> names;  // per piece
     std::vector<float> transforms;   // frames × pieces × 7
     std::vector<float> turns;        // frames × pieces, or empty when turns.bin is absent
-    std::filesystem::path fragments; // the fragments.glb that belongs to it
+    std::vector<Mesh> meshes;        // per piece, from fragments.glb: relative to the pivot, world axes
 };
 
-// Reads DIR/sim.json, DIR/transforms.bin and DIR/turns.bin if present, and checks them against each other (size,
+// Reads DIR/sim.json, DIR/transforms.bin, DIR/turns.bin if present and DIR/fragments.glb,
+// and checks them against each other (size,
 // finite values, unit quaternions). Throws InputError naming the file and the problem.
 SimulationFolder loadSimulation(const std::filesystem::path& dir);
 
