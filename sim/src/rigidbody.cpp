@@ -102,7 +102,7 @@ struct World {
     std::vector<std::unique_ptr<btTriangleIndexVertexArray>> triangleArrays;
     std::vector<std::vector<int>> colliderIndices;
     std::vector<std::vector<btScalar>> colliderVertices;
-    std::vector<std::unique_ptr<btRigidBody>> bodies;  // pieces first, then projectile / statics
+    std::vector<std::unique_ptr<btRigidBody>> bodies;  // pieces first (index = piece), then ground, colliders, projectile
     std::vector<std::unique_ptr<btTypedConstraint>> constraints;
     btDefaultCollisionConfiguration configuration;
     ClusterDispatcher dispatcher{&configuration};
