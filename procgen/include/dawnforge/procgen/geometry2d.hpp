@@ -1,0 +1,55 @@
+#pragma once
+// Plan (2D) geometry shared by every procgen stage. Plan coordinates are metres, x east,
+// y north; a plan point (x, y) at height h is the glTF point (x, h, -y) (+Y up, north is
+// -Z). Polygons are simple, counter-clockwise seen from above, without a repeated last
+// vertex. All plan arithmetic is in double so that a tile and the whole city agree.
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/geometric.hpp>
+
+#include <span>
+#include <vector>
+
+namespace dawnforge::procgen {
+
+using Polygon2 = std::vector<glm::dvec2>;
+
+// The glTF position of plan point p at height h.
+inline glm::vec3 toWorld(glm::dvec2 p, double h) {
+    return {static_cast<float>(p.x), static_cast<float>(h), static_cast<float>(-p.y)};
+}
+
+double signedArea(std::span<const glm::dvec2> polygon);  // > 0 when counter-clockwise
+glm::dvec2 centroid(std::span<const glm::dvec2> polygon);  // area centroid
+double perimeter(std::span<const glm::dvec2> polygon);
+bool containsPoint(std::span<const glm::dvec2> polygon, glm::dvec2 p);  // even-odd rule
+bool isConvex(std::span<const glm::dvec2> polygon);
+bool isSimple(std::span<const glm::dvec2> polygon);  // no two non-adjacent edges meet
+// Distance from p to the segment a-b.
+double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b);
+// Distance from p to the polygon's boundary.
+double distanceToBoundary(std::span<const glm::dvec2> polygon, glm::dvec2 p);
+
+// The part of a convex polygon where dot(n, p) <= d (Sutherland-Hodgman); may be empty.
+Polygon2 clipHalfPlane(std::span<const glm::dvec2> convex, glm::dvec2 n, double d);
+// Removes consecutive vertices closer than `epsilon` and vertices whose edges are
+// collinear within `epsilon` (distance of the vertex from its neighbours' chord).
+Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon = 1e-6);
+
+// The polygon shrunk by `distance` (> 0) through CGAL's straight-skeleton offset; empty
+// when nothing is left; when the offset splits the polygon, the largest part.
+Polygon2 insetPolygon(std::span<const glm::dvec2> polygon, double distance);
+
+// Oriented frame of a polygon: unit axis `u` along the given edge, `v` its inward normal
+// (u rotated +90 degrees), and the polygon's extents along both from `origin`.
+struct PolygonFrame {
+    glm::dvec2 origin{0.0};
+    glm::dvec2 u{1.0, 0.0};
+    glm::dvec2 v{0.0, 1.0};
+    double uMin = 0, uMax = 0, vMin = 0, vMax = 0;
+    glm::dvec2 toPlan(double a, double b) const { return origin + a * u + b * v; }
+    glm::dvec2 toFrame(glm::dvec2 p) const { return {glm::dot(p - origin, u), glm::dot(p - origin, v)}; }
+};
+PolygonFrame edgeFrame(std::span<const glm::dvec2> polygon, std::size_t edge);
+
+}  // namespace dawnforge::procgen

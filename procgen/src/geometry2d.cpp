@@ -1,0 +1,164 @@
+#include <dawnforge/procgen/geometry2d.hpp>
+#include <dawnforge/procgen/materials.hpp>
+
+#include <dawnforge/core/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dawnforge::procgen {
+
+const char* materialName(std::uint8_t id) {
+    static const char* const kNames[16] = {
+        "asphalt", "paving", "brick", "concrete", "plaster", "glass", "metal", "trim",
+        "roof_tiles", "roof_flat", "wood", "interior_wall", "floor", "ground", "sand", "rubble"};
+    DAWNFORGE_ASSERT(id < 16, "material id above 15");
+    return kNames[id];
+}
+
+namespace {
+double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+}  // namespace
+
+double signedArea(std::span<const glm::dvec2> polygon) {
+    double sum = 0.0;
+    for (std::size_t i = 0, n = polygon.size(); i < n; ++i) sum += cross(polygon[i], polygon[(i + 1) % n]);
+    return 0.5 * sum;
+}
+
+glm::dvec2 centroid(std::span<const glm::dvec2> polygon) {
+    if (polygon.empty()) return glm::dvec2(0.0);
+    // Relative to the first vertex, for precision far from the origin.
+    const glm::dvec2 o = polygon[0];
+    double area = 0.0;
+    glm::dvec2 sum(0.0);
+    for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
+        const glm::dvec2 a = polygon[i] - o, b = polygon[i + 1] - o;
+        const double w = cross(a, b);
+        area += w;
+        sum += w * (a + b);
+    }
+    if (std::abs(area) < 1e-300) {
+        glm::dvec2 mean(0.0);
+        for (glm::dvec2 p : polygon) mean += p;
+        return mean / static_cast<double>(polygon.size());
+    }
+    return o + sum / (3.0 * area);
+}
+
+double perimeter(std::span<const glm::dvec2> polygon) {
+    double sum = 0.0;
+    for (std::size_t i = 0, n = polygon.size(); i < n; ++i) sum += glm::distance(polygon[i], polygon[(i + 1) % n]);
+    return sum;
+}
+
+bool containsPoint(std::span<const glm::dvec2> polygon, glm::dvec2 p) {
+    bool inside = false;
+    for (std::size_t i = 0, n = polygon.size(), j = n - 1; i < n; j = i++) {
+        const glm::dvec2 a = polygon[i], b = polygon[j];
+        if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+    }
+    return inside;
+}
+
+bool isConvex(std::span<const glm::dvec2> polygon) {
+    const std::size_t n = polygon.size();
+    if (n < 3) return false;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % n], c = polygon[(i + 2) % n];
+        if (cross(b - a, c - b) < -1e-12 * glm::length(b - a) * glm::length(c - b)) return false;
+    }
+    return true;
+}
+
+namespace {
+bool segmentsIntersect(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2) {
+    const double d1 = cross(q2 - q1, p1 - q1), d2 = cross(q2 - q1, p2 - q1);
+    const double d3 = cross(p2 - p1, q1 - p1), d4 = cross(p2 - p1, q2 - p1);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+    auto onSegment = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
+        return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+               p.y <= std::max(a.y, b.y);
+    };
+    return (d1 == 0 && onSegment(q1, q2, p1)) || (d2 == 0 && onSegment(q1, q2, p2)) ||
+           (d3 == 0 && onSegment(p1, p2, q1)) || (d4 == 0 && onSegment(p1, p2, q2));
+}
+}  // namespace
+
+bool isSimple(std::span<const glm::dvec2> polygon) {
+    const std::size_t n = polygon.size();
+    if (n < 3) return false;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+            if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // adjacent edges share a vertex
+            if (segmentsIntersect(polygon[i], polygon[(i + 1) % n], polygon[j], polygon[(j + 1) % n])) return false;
+        }
+    return true;
+}
+
+double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::distance(p, a + t * ab);
+}
+
+double distanceToBoundary(std::span<const glm::dvec2> polygon, glm::dvec2 p) {
+    double best = INFINITY;
+    for (std::size_t i = 0, n = polygon.size(); i < n; ++i)
+        best = std::min(best, distanceToSegment(p, polygon[i], polygon[(i + 1) % n]));
+    return best;
+}
+
+Polygon2 clipHalfPlane(std::span<const glm::dvec2> convex, glm::dvec2 n, double d) {
+    Polygon2 out;
+    const std::size_t count = convex.size();
+    out.reserve(count + 1);
+    for (std::size_t i = 0; i < count; ++i) {
+        const glm::dvec2 a = convex[i], b = convex[(i + 1) % count];
+        const double da = glm::dot(n, a) - d, db = glm::dot(n, b) - d;
+        if (da <= 0.0) out.push_back(a);
+        if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) out.push_back(a + (b - a) * (da / (da - db)));
+    }
+    if (out.size() < 3) out.clear();
+    return out;
+}
+
+Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon) {
+    Polygon2 out(polygon.begin(), polygon.end());
+    bool changed = true;
+    while (changed && out.size() >= 3) {
+        changed = false;
+        for (std::size_t i = 0; i < out.size() && out.size() >= 3; ++i) {
+            const std::size_t n = out.size();
+            const glm::dvec2 prev = out[(i + n - 1) % n], cur = out[i], next = out[(i + 1) % n];
+            if (glm::distance(cur, next) < epsilon || distanceToSegment(cur, prev, next) < epsilon) {
+                out.erase(out.begin() + static_cast<std::ptrdiff_t>(i));
+                changed = true;
+                --i;
+            }
+        }
+    }
+    if (out.size() < 3) out.clear();
+    return out;
+}
+
+PolygonFrame edgeFrame(std::span<const glm::dvec2> polygon, std::size_t edge) {
+    DAWNFORGE_ASSERT(polygon.size() >= 3 && edge < polygon.size(), "edge out of range");
+    PolygonFrame frame;
+    frame.origin = polygon[edge];
+    frame.u = glm::normalize(polygon[(edge + 1) % polygon.size()] - polygon[edge]);
+    frame.v = {-frame.u.y, frame.u.x};
+    frame.uMin = frame.vMin = INFINITY;
+    frame.uMax = frame.vMax = -INFINITY;
+    for (glm::dvec2 p : polygon) {
+        const glm::dvec2 f = frame.toFrame(p);
+        frame.uMin = std::min(frame.uMin, f.x);
+        frame.uMax = std::max(frame.uMax, f.x);
+        frame.vMin = std::min(frame.vMin, f.y);
+        frame.vMax = std::max(frame.vMax, f.y);
+    }
+    return frame;
+}
+
+}  // namespace dawnforge::procgen
