@@ -143,6 +143,45 @@ Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon) {
     return out;
 }
 
+std::vector<std::uint32_t> triangulatePolygon(std::span<const glm::dvec2> polygon) {
+    std::vector<std::uint32_t> out;
+    const std::size_t n = polygon.size();
+    if (n < 3) return out;
+    out.reserve(3 * (n - 2));
+    std::vector<std::uint32_t> ring(n);
+    for (std::size_t i = 0; i < n; ++i) ring[i] = static_cast<std::uint32_t>(i);
+    auto isEar = [&](std::size_t i) {
+        const std::size_t m = ring.size();
+        const glm::dvec2 a = polygon[ring[(i + m - 1) % m]], b = polygon[ring[i]], c = polygon[ring[(i + 1) % m]];
+        if (cross(b - a, c - b) <= 0.0) return false;  // reflex or flat corner
+        for (std::size_t j = 0; j < m; ++j) {
+            if (j == i || j == (i + 1) % m || j == (i + m - 1) % m) continue;
+            const glm::dvec2 p = polygon[ring[j]];
+            if (p == a || p == b || p == c) continue;
+            if (cross(b - a, p - a) >= 0.0 && cross(c - b, p - b) >= 0.0 && cross(a - c, p - c) >= 0.0) return false;
+        }
+        return true;
+    };
+    while (ring.size() > 3) {
+        std::size_t m = ring.size(), ear = m;
+        for (std::size_t i = 0; i < m && ear == m; ++i)
+            if (isEar(i)) ear = i;
+        if (ear == m) {
+            // Only flat or nearly flat corners left (rounding): cut the flattest one.
+            double best = INFINITY;
+            for (std::size_t i = 0; i < m; ++i) {
+                const glm::dvec2 a = polygon[ring[(i + m - 1) % m]], b = polygon[ring[i]], c = polygon[ring[(i + 1) % m]];
+                const double turn = std::abs(cross(b - a, c - b));
+                if (turn < best) best = turn, ear = i;
+            }
+        }
+        out.insert(out.end(), {ring[(ear + m - 1) % m], ring[ear], ring[(ear + 1) % m]});
+        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(ear));
+    }
+    out.insert(out.end(), {ring[0], ring[1], ring[2]});
+    return out;
+}
+
 PolygonFrame edgeFrame(std::span<const glm::dvec2> polygon, std::size_t edge) {
     DAWNFORGE_ASSERT(polygon.size() >= 3 && edge < polygon.size(), "edge out of range");
     PolygonFrame frame;

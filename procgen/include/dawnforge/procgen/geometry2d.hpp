@@ -7,6 +7,7 @@
 #include <glm/vec3.hpp>
 #include <glm/geometric.hpp>
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -39,6 +40,10 @@ Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon = 1
 // The polygon shrunk by `distance` (> 0) through CGAL's straight-skeleton offset; empty
 // when nothing is left; when the offset splits the polygon, the largest part.
 Polygon2 insetPolygon(std::span<const glm::dvec2> polygon, double distance);
+
+// Triangles (three indices each, counter-clockwise) covering a simple counter-clockwise
+// polygon, by ear clipping; deterministic. Empty for fewer than three vertices.
+std::vector<std::uint32_t> triangulatePolygon(std::span<const glm::dvec2> polygon);
 
 // Oriented frame of a polygon: unit axis `u` along the given edge, `v` its inward normal
 // (u rotated +90 degrees), and the polygon's extents along both from `origin`.
