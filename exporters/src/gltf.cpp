@@ -8,6 +8,7 @@
 #include <tiny_gltf.h>
 
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -49,22 +50,25 @@ tinygltf::Value extrasOf(const std::string& json) {
     return toValue(j);
 }
 
-// Appends data to the single buffer as its own bufferView (4-byte aligned) and adds an accessor.
+// Lays out the single binary buffer: each add() reserves a 4-byte-aligned bufferView and
+// records how to fill it; fill() then writes every view straight into the GLB's BIN chunk
+// (no intermediate copy of the whole buffer: city scenes run to a gigabyte).
 class BufferBuilder {
 public:
     explicit BufferBuilder(tinygltf::Model& model) : model_(model) { model_.buffers.emplace_back(); }
 
-    int add(const void* data, std::size_t bytes, std::size_t count, int componentType, int type, int target,
+    using Writer = std::function<void(unsigned char*)>;
+
+    int add(Writer writer, std::size_t bytes, std::size_t count, int componentType, int type, int target,
             bool normalized = false) {
-        std::vector<unsigned char>& buffer = model_.buffers[0].data;
-        while (buffer.size() % 4) buffer.push_back(0);
+        size_ = (size_ + 3) & ~std::size_t(3);
         tinygltf::BufferView view;
         view.buffer = 0;
-        view.byteOffset = buffer.size();
+        view.byteOffset = size_;
         view.byteLength = bytes;
         view.target = target;
-        const auto* p = static_cast<const unsigned char*>(data);
-        buffer.insert(buffer.end(), p, p + bytes);
+        writers_.push_back({size_, std::move(writer)});
+        size_ += bytes;
         model_.bufferViews.push_back(view);
 
         tinygltf::Accessor accessor;
@@ -76,6 +80,11 @@ public:
         accessor.normalized = normalized;
         model_.accessors.push_back(accessor);
         return static_cast<int>(model_.accessors.size() - 1);
+    }
+    int add(const void* data, std::size_t bytes, std::size_t count, int componentType, int type, int target,
+            bool normalized = false) {
+        return add([data, bytes](unsigned char* out) { std::memcpy(out, data, bytes); }, bytes, count, componentType,
+                   type, target, normalized);
     }
 
     template <typename Vec>
@@ -97,8 +106,16 @@ public:
         return index;
     }
 
+    std::size_t size() const { return (size_ + 3) & ~std::size_t(3); }
+    // Writes every view at its offset into `out` (size() bytes, zeroed).
+    void fill(unsigned char* out) const {
+        for (const auto& [offset, writer] : writers_) writer(out + offset);
+    }
+
 private:
     tinygltf::Model& model_;
+    std::size_t size_ = 0;
+    std::vector<std::pair<std::size_t, Writer>> writers_;
 };
 
 tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material) {
@@ -109,37 +126,58 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
     prim.attributes["POSITION"] = buffers.addFloats(mesh.positions, TINYGLTF_TYPE_VEC3, true);
     if (!mesh.normals.empty()) {
         // glTF requires unit normals: normalise, and give degenerate ones a valid direction.
-        std::vector<glm::vec3> normals(mesh.normals.size());
-        for (std::size_t i = 0; i < normals.size(); ++i) {
-            const float len = glm::length(mesh.normals[i]);
-            normals[i] = len > 1e-12f ? mesh.normals[i] / len : glm::vec3(0, 1, 0);
-        }
-        prim.attributes["NORMAL"] = buffers.addFloats(normals, TINYGLTF_TYPE_VEC3);
+        const std::vector<glm::vec3>& normals = mesh.normals;
+        prim.attributes["NORMAL"] = buffers.add(
+            [&normals](unsigned char* out) {
+                for (std::size_t i = 0; i < normals.size(); ++i) {
+                    const float len = glm::length(normals[i]);
+                    const glm::vec3 n = len > 1e-12f ? normals[i] / len : glm::vec3(0, 1, 0);
+                    std::memcpy(out + 12 * i, &n, 12);
+                }
+            },
+            normals.size() * 12, normals.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+            TINYGLTF_TARGET_ARRAY_BUFFER);
     }
     if (!mesh.uv0.empty()) prim.attributes["TEXCOORD_0"] = buffers.addFloats(mesh.uv0, TINYGLTF_TYPE_VEC2);
     if (!mesh.uv1.empty()) prim.attributes["TEXCOORD_1"] = buffers.addFloats(mesh.uv1, TINYGLTF_TYPE_VEC2);
     if (!mesh.uv2.empty()) prim.attributes["TEXCOORD_2"] = buffers.addFloats(mesh.uv2, TINYGLTF_TYPE_VEC2);
     if (!mesh.uv3.empty()) prim.attributes["TEXCOORD_3"] = buffers.addFloats(mesh.uv3, TINYGLTF_TYPE_VEC2);
     if (!mesh.materialIds.empty()) {
-        std::vector<glm::u8vec4> colors;
-        colors.reserve(mesh.materialIds.size());
-        for (std::uint8_t id : mesh.materialIds) colors.push_back(materialIdToColor(id));
-        prim.attributes["COLOR_0"] = buffers.add(colors.data(), colors.size() * 4, colors.size(),
-                                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
-                                                 TINYGLTF_TARGET_ARRAY_BUFFER, true);
+        const std::vector<std::uint8_t>& ids = mesh.materialIds;
+        prim.attributes["COLOR_0"] = buffers.add(
+            [&ids](unsigned char* out) {
+                for (std::size_t i = 0; i < ids.size(); ++i) {
+                    const glm::u8vec4 c = materialIdToColor(ids[i]);
+                    std::memcpy(out + 4 * i, &c, 4);
+                }
+            },
+            ids.size() * 4, ids.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
+            TINYGLTF_TARGET_ARRAY_BUFFER, true);
     }
     if (!mesh.pieceIds.empty()) {
-        std::vector<float> ids(mesh.pieceIds.begin(), mesh.pieceIds.end());
-        prim.attributes["_PIECE_ID"] = buffers.add(ids.data(), ids.size() * 4, ids.size(),
-                                                   TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR,
-                                                   TINYGLTF_TARGET_ARRAY_BUFFER);
+        const std::vector<std::uint32_t>& ids = mesh.pieceIds;
+        prim.attributes["_PIECE_ID"] = buffers.add(
+            [&ids](unsigned char* out) {
+                for (std::size_t i = 0; i < ids.size(); ++i) {
+                    const float f = static_cast<float>(ids[i]);
+                    std::memcpy(out + 4 * i, &f, 4);
+                }
+            },
+            ids.size() * 4, ids.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
     }
     // The smallest index type that holds every index.
     const bool small = mesh.positions.size() <= 65535;
     if (small) {
-        std::vector<std::uint16_t> idx(mesh.indices.begin(), mesh.indices.end());
-        prim.indices = buffers.add(idx.data(), idx.size() * 2, idx.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                   TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        const std::vector<std::uint32_t>& idx = mesh.indices;
+        prim.indices = buffers.add(
+            [&idx](unsigned char* out) {
+                for (std::size_t i = 0; i < idx.size(); ++i) {
+                    const auto v = static_cast<std::uint16_t>(idx[i]);
+                    std::memcpy(out + 2 * i, &v, 2);
+                }
+            },
+            idx.size() * 2, idx.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
+            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     } else {
         prim.indices = buffers.add(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(),
                                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
@@ -169,7 +207,6 @@ std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& setting
 
     BufferBuilder buffers(model);
     for (const Mesh& mesh : scene.meshes) model.meshes.push_back(encodeMesh(mesh, buffers, 0));
-    model.buffers[0].data.resize((model.buffers[0].data.size() + 3) & ~std::size_t(3), 0);
 
     for (const Node& node : scene.nodes) {
         tinygltf::Node n;
@@ -194,12 +231,37 @@ std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& setting
     model.scenes.push_back(std::move(s));
     model.defaultScene = 0;
 
+    // tinygltf writes the JSON (with an empty buffer); the GLB container is assembled here so
+    // that the binary chunk is written once, in place (glTF 2.0 spec, "GLB File Format").
     std::ostringstream stream;
     tinygltf::TinyGLTF writer;
-    DAWNFORGE_ASSERT(writer.WriteGltfSceneToStream(&model, stream, false, true), "tinygltf could not encode the scene");
-    const std::string bytes = std::move(stream).str();
-    std::vector<std::byte> out(bytes.size());
-    std::memcpy(out.data(), bytes.data(), bytes.size());
+    DAWNFORGE_ASSERT(writer.WriteGltfSceneToStream(&model, stream, false, false), "tinygltf could not encode the scene");
+    nlohmann::ordered_json json = nlohmann::ordered_json::parse(stream.str());
+    if (buffers.size() > 0)
+        json["buffers"] = nlohmann::ordered_json::array({{{"byteLength", buffers.size()}}});
+    else
+        json.erase("buffers");
+    std::string text = json.dump();
+    while (text.size() % 4) text.push_back(' ');
+    const std::size_t binBytes = buffers.size();
+    const std::size_t total = 12 + 8 + text.size() + (binBytes > 0 ? 8 + binBytes : 0);
+    DAWNFORGE_ASSERT(total <= 0xffffffffu, "the scene is larger than a GLB can hold (4 GiB)");
+    std::vector<std::byte> out(total, std::byte{0});
+    auto* p = reinterpret_cast<unsigned char*>(out.data());
+    auto put32 = [&](std::size_t at, std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) p[at + i] = static_cast<unsigned char>(v >> (8 * i));
+    };
+    put32(0, 0x46546C67u);  // "glTF"
+    put32(4, 2);
+    put32(8, static_cast<std::uint32_t>(total));
+    put32(12, static_cast<std::uint32_t>(text.size()));
+    put32(16, 0x4E4F534Au);  // "JSON"
+    std::memcpy(p + 20, text.data(), text.size());
+    const std::size_t bin = 20 + text.size();
+    if (binBytes == 0) return out;
+    put32(bin, static_cast<std::uint32_t>(binBytes));
+    put32(bin + 4, 0x004E4942u);  // "BIN\0"
+    buffers.fill(p + bin + 8);
     return out;
 }
 
