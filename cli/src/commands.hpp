@@ -1,6 +1,8 @@
 #pragma once
 // The commands of the dawnforge executable: each parses nothing and computes nothing of
 // its own; it wires the stages of the libraries together (ARCHITECTURE.md, cli/).
+#include <dawnforge/procgen/city.hpp>
+
 #include <filesystem>
 #include <cstdint>
 #include <optional>
@@ -80,6 +82,19 @@ struct VatOptions {
     std::string name = "vat";
 };
 int runVat(const VatOptions& options, const CommonOptions& common);
+
+struct CityOptions {
+    std::filesystem::path outputDir;
+    std::uint64_t seed = 1;
+    std::string size = "500x500";
+    std::string tile;           // "I,J", or empty for the whole city
+    double tileSize = 250.0;
+    std::filesystem::path recipeFile;
+};
+int runCity(const CityOptions& options, const CommonOptions& common);
+// Generates a district and writes DIR/city.glb and DIR/city.json, with progress and a summary.
+void writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
+                     const CommonOptions& common);
 
 struct DemoOptions {
     std::filesystem::path outputDir;

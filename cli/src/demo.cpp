@@ -20,6 +20,13 @@ namespace dawnforge::cli {
 int runDemo(const DemoOptions& options, const CommonOptions& common) {
     ensureOutputDirectory(options.outputDir);
 
+    // A small coastal district on the default recipe: a third of it sea.
+    procgen::CitySettings city;
+    city.size = {320.0, 280.0};
+    city.tileSize = 160.0;
+    city.recipe.coast.water = 0.3;
+    writeCityFolder(city, options.outputDir / "city", common);
+
     Scene scene;
     Mesh ground = makeBox({-40, -0.5f, -40}, {40, 0, 40}, 1);
     ground.name = "ground";
@@ -89,7 +96,7 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     }
     std::printf("wrote %s: tower_{native,unreal,unity}_{pos.exr,rot.exr,mesh.glb,data.json}\n",
                 (options.outputDir / "vat").string().c_str());
-    std::printf("not built yet: city, bake, render\n");
+    std::printf("not built yet: bake, render\n");
     return 0;
 }
 

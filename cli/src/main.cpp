@@ -22,7 +22,6 @@ struct PlannedCommand {
 // Commands of ARCHITECTURE.md that later work builds; they are listed so --help shows
 // the whole tool, and they say plainly that they are not built yet.
 constexpr PlannedCommand kPlanned[] = {
-    {"city", "Generate a city district: DIR/city.glb, DIR/city.json (not built yet)"},
     {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
     {"render", "Render a scene headless to PNG (not built yet)"},
     {"view", "Show a scene in a window (not built yet)"},
@@ -144,6 +143,20 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 8192))->capture_default_str();
     vatCmd->add_option("--name", vat.name, "File name prefix")->capture_default_str();
 
+    cli::CityOptions city;
+    CLI::App* cityCmd = app.add_subcommand(
+        "city", "Generate a city district with buildings and interiors: DIR/city.glb, DIR/city.json");
+    cityCmd->add_option("-o,--output", city.outputDir, "Output folder")->required();
+    cityCmd->add_option("--seed", city.seed, "Random seed")->capture_default_str();
+    cityCmd->add_option("--size", city.size, "District size WxD in metres (x east, y north)")->capture_default_str();
+    cityCmd->add_option("--tile", city.tile, "Generate only tile I,J (identical to that tile of the whole district)");
+    cityCmd->add_option("--tile-size", city.tileSize, "Tile size in metres")->capture_default_str();
+    cityCmd->add_option("--recipe", city.recipeFile,
+                        "JSON recipe: any parameter of streets, coast, lots, buildings, interiors, roofs "
+                        "(examples/recipes/)");
+    cityCmd->add_option("--threads", threads, "Worker threads (0: all cores); output does not depend on it")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+
     cli::DemoOptions demo;
     CLI::App* demoCmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
     demoCmd->add_option("-o,--output", demo.outputDir, "Output folder")->required();
@@ -177,6 +190,7 @@ int main(int argc, char** argv) {
         if (inspectCmd->parsed()) return cli::runInspect(inspect, common);
         std::optional<tbb::global_control> threadLimit;
         if (threads > 0) threadLimit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        if (cityCmd->parsed()) return cli::runCity(city, common);
         if (fractureCmd->parsed()) return cli::runFracture(fracture, common);
         if (simulateCmd->parsed()) return cli::runSimulate(sim, common);
         if (vatCmd->parsed()) return cli::runVat(vat, common);

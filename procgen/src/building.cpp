@@ -1,1 +1,938 @@
-// (being written)
+// Buildings: sections (a base and an optional setback tower), storeys, facades, interiors,
+// roofs, LOD0 and LOD1. All footprints are convex (lots are convex; insets of convex
+// polygons are convex), which the floor layout relies on.
+//
+// Floor layout (the same cuts on every floor, so the stairs core lines up): the frame's
+// u axis runs along the footprint's front edge (the street), v into the building. A corridor
+// runs from the entrance in the middle of the front to the back; rooms line both sides,
+// cut across the corridor every `roomWidth`; one slot next to the corridor is the stairs.
+// Every room has a door onto the corridor; the corridor has the entrance; stairs join the
+// floors. Too narrow for rooms on both sides: rooms on one side; narrower still: rooms in
+// a row, each opening into the next (an enfilade), the first one onto the street.
+//
+// Walls are closed solids: each storey's exterior wall is one ring (outer face, inner face,
+// caps, and a reveal around each opening); every face of a ring uses the same rows (the
+// heights of all its openings) and each wall segment's columns are its openings' edges, so
+// faces meet vertex to vertex, corners included.
+#include <dawnforge/procgen/building.hpp>
+#include "mesh_builder.hpp"
+#include <dawnforge/procgen/materials.hpp>
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/seed.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+
+namespace dawnforge::procgen {
+
+const char* roomKindName(RoomKind kind) {
+    switch (kind) {
+        case RoomKind::Room: return "room";
+        case RoomKind::Corridor: return "corridor";
+        case RoomKind::Stairs: return "stairs";
+    }
+    return "room";
+}
+
+namespace {
+
+constexpr double kRiser = 0.2;        // stairs: target step height
+constexpr double kMinTread = 0.23;  // with kRiser: about 41 degrees, steep but a stair
+constexpr double kStairWidth = 1.1;
+constexpr double kGlassRecess = 0.08; // glass sits this far behind the outer face
+constexpr double kBandHeight = 0.25;  // floor band and cornice
+constexpr double kMinEdge = 1.5;
+constexpr double kMaxShedRise = 3.0;  // metres from the low to the high side of a shed roof      // footprints lose vertices until every edge is this long
+
+double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+
+// A wall segment between an outer line (o0 -> o1) and an inner line (i0 -> i1) parallel to
+// it at distance `thickness` on the left (inside). Positions along the wall are distances s
+// from o0 along `dir`; the ends use the given corner points exactly so that neighbouring
+// segments of a ring share them.
+struct WallLine {
+    glm::dvec2 o0, o1, i0, i1;
+    glm::dvec2 dir, inward;
+    double length = 0, thickness = 0;
+    double uOffset = 0;  // outer face u at o0 (the perimeter run so far)
+
+    static WallLine between(glm::dvec2 o0, glm::dvec2 o1, glm::dvec2 i0, glm::dvec2 i1, double thickness) {
+        WallLine w{o0, o1, i0, i1, {}, {}, glm::distance(o0, o1), thickness, 0.0};
+        w.dir = (o1 - o0) / w.length;
+        w.inward = {-w.dir.y, w.dir.x};
+        return w;
+    }
+    // Centred on the segment a -> b (an interior wall), with square ends.
+    static WallLine centred(glm::dvec2 a, glm::dvec2 b, double thickness) {
+        const glm::dvec2 dir = glm::normalize(b - a), inward{-dir.y, dir.x};
+        const glm::dvec2 half = inward * (0.5 * thickness);
+        return between(a - half, b - half, a + half, b + half, thickness);
+    }
+    double innerStart() const { return glm::dot(i0 - o0, dir); }
+    double innerEnd() const { return glm::dot(i1 - o0, dir); }
+};
+
+struct Opening {
+    double s0 = 0, s1 = 0, z0 = 0, z1 = 0;  // along the wall; heights
+    enum Kind { Window, Door } kind = Window;
+    bool leaf = true;  // a pane or door leaf in the opening (interior doorways have none)
+    std::optional<MeshBuilder::Glass> glass;  // windows: interior-mapping data
+};
+
+// Breakpoints along a wall: index 0 and the last are the segment's ends.
+struct Columns {
+    std::vector<double> s;      // s[0] = 0, s.back() = length
+    std::vector<int> opening;   // per column (between s[k] and s[k+1]): index into openings or -1
+};
+
+Columns columnsOf(const WallLine& w, std::span<const Opening> openings) {
+    Columns c;
+    c.s.push_back(0.0);
+    for (std::size_t i = 0; i < openings.size(); ++i) {
+        c.opening.push_back(-1);
+        c.s.push_back(openings[i].s0);
+        c.opening.push_back(static_cast<int>(i));
+        c.s.push_back(openings[i].s1);
+    }
+    c.opening.push_back(-1);
+    c.s.push_back(w.length);
+    return c;
+}
+
+glm::dvec2 outerAt(const WallLine& w, const Columns& c, std::size_t k) {
+    if (k == 0) return w.o0;
+    if (k + 1 == c.s.size()) return w.o1;
+    return w.o0 + w.dir * c.s[k];
+}
+glm::dvec2 innerAt(const WallLine& w, const Columns& c, std::size_t k) {
+    if (k == 0) return w.i0;
+    if (k + 1 == c.s.size()) return w.i1;
+    return w.o0 + w.dir * c.s[k] + w.inward * w.thickness;
+}
+
+struct WallMaterials {
+    std::uint8_t outer = kBrick, inner = kInteriorWall, caps = kBrick, reveal = kTrim;
+};
+
+// One wall segment as part of a closed solid: outer and inner faces on the rows `levels`,
+// caps at the first and last level, reveals around the openings, glass and door leaves,
+// and (for free-standing walls) end caps.
+void appendWall(MeshBuilder& mb, const WallLine& w, std::span<const Opening> openings, std::span<const double> levels,
+                bool endCaps, const WallMaterials& mat) {
+    using Uv = MeshBuilder::Uv;
+    const Columns cols = columnsOf(w, openings);
+    const glm::dvec3 out = MeshBuilder::outward(w.dir), in = -out, along = MeshBuilder::planDir(w.dir);
+    const Uv outerUv{Uv::Wall, w.dir, w.uOffset - glm::dot(w.o0, w.dir)}, wallUv{Uv::Wall, w.dir, 0.0};
+    const Uv sideUv{Uv::Wall, w.inward, 0.0};
+    const double y0 = levels.front(), y1 = levels.back();
+    auto inOpening = [&](int o, std::size_t r) {
+        return o >= 0 && levels[r] >= openings[o].z0 && levels[r + 1] <= openings[o].z1;
+    };
+    for (std::size_t k = 0; k + 1 < cols.s.size(); ++k) {
+        const int o = cols.opening[k];
+        const glm::dvec2 oa = outerAt(w, cols, k), ob = outerAt(w, cols, k + 1);
+        const glm::dvec2 ia = innerAt(w, cols, k), ib = innerAt(w, cols, k + 1);
+        for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
+            if (inOpening(o, r)) continue;
+            const double za = levels[r], zb = levels[r + 1];
+            mb.quad({oa, za}, {ob, za}, {ob, zb}, {oa, zb}, out, mat.outer, outerUv);
+            mb.quad({ia, za}, {ib, za}, {ib, zb}, {ia, zb}, in, mat.inner, wallUv);
+        }
+        // An opening from the bottom level up is a notch: no cap and no sill under it.
+        const bool notch = o >= 0 && openings[o].z0 <= y0;
+        if (!notch) mb.quad({oa, y0}, {ob, y0}, {ib, y0}, {ia, y0}, -MeshBuilder::up(), mat.caps, {});
+        mb.quad({oa, y1}, {ob, y1}, {ib, y1}, {ia, y1}, MeshBuilder::up(), mat.caps, {});
+        if (o < 0) continue;
+        const Opening& op = openings[o];
+        for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
+            if (!inOpening(o, r)) continue;
+            const double za = levels[r], zb = levels[r + 1];
+            mb.quad({oa, za}, {ia, za}, {ia, zb}, {oa, zb}, along, mat.reveal, sideUv);
+            mb.quad({ob, za}, {ib, za}, {ib, zb}, {ob, zb}, -along, mat.reveal, sideUv);
+        }
+        if (!notch) mb.quad({oa, op.z0}, {ob, op.z0}, {ib, op.z0}, {ia, op.z0}, MeshBuilder::up(), mat.reveal, {});
+        mb.quad({oa, op.z1}, {ob, op.z1}, {ib, op.z1}, {ia, op.z1}, -MeshBuilder::up(), mat.reveal, {});
+        // The pane (or door leaf), recessed from the outer face; one-sided, facing out.
+        if (!op.leaf) continue;
+        const glm::dvec2 ga = oa + w.inward * kGlassRecess, gb = ob + w.inward * kGlassRecess;
+        mb.quad({ga, op.z0}, {gb, op.z0}, {gb, op.z1}, {ga, op.z1}, out, op.glass ? kGlass : kWood, wallUv,
+                op.glass ? &*op.glass : nullptr);
+    }
+    if (!endCaps) return;
+    for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
+        const double za = levels[r], zb = levels[r + 1];
+        mb.quad({w.o0, za}, {w.i0, za}, {w.i0, zb}, {w.o0, zb}, -along, mat.caps, sideUv);
+        mb.quad({w.o1, za}, {w.i1, za}, {w.i1, zb}, {w.o1, zb}, along, mat.caps, sideUv);
+    }
+}
+
+std::vector<double> levelsOf(double y0, double y1, std::span<const std::vector<Opening>> walls) {
+    std::vector<double> levels{y0, y1};
+    for (const auto& openings : walls)
+        for (const Opening& o : openings) levels.insert(levels.end(), {o.z0, o.z1});
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    return levels;
+}
+
+// The polygon moved inward by d along each edge's normal (mitred corners). Convex input,
+// d small against the edges.
+Polygon2 mitreOffset(std::span<const glm::dvec2> poly, double d) {
+    const std::size_t n = poly.size();
+    Polygon2 out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 p = poly[(i + n - 1) % n], c = poly[i], q = poly[(i + 1) % n];
+        const glm::dvec2 d0 = glm::normalize(c - p), d1 = glm::normalize(q - c);
+        const glm::dvec2 n0{-d0.y, d0.x}, n1{-d1.y, d1.x};
+        // c + x with dot(x, n0) = d and dot(x, n1) = d.
+        const double det = cross2(n0, n1);
+        out[i] = std::abs(det) < 1e-12 ? c + n0 * d : c + glm::dvec2((d * n1.y - d * n0.y), (n0.x * d - n1.x * d)) / det;
+    }
+    return out;
+}
+
+// Drops vertices of a convex polygon (making it smaller) until every edge is at least `minEdge`.
+Polygon2 dropShortEdges(Polygon2 poly, double minEdge) {
+    while (poly.size() > 3) {
+        std::size_t worst = poly.size();
+        double shortest = minEdge;
+        for (std::size_t i = 0; i < poly.size(); ++i) {
+            const double len = glm::distance(poly[i], poly[(i + 1) % poly.size()]);
+            if (len < shortest) shortest = len, worst = i;
+        }
+        if (worst == poly.size()) break;
+        // Remove whichever end of the short edge costs less area.
+        const std::size_t n = poly.size(), a = worst, b = (worst + 1) % n;
+        auto cost = [&](std::size_t i) {
+            return std::abs(cross2(poly[i] - poly[(i + n - 1) % n], poly[(i + 1) % n] - poly[(i + n - 1) % n]));
+        };
+        poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(cost(a) <= cost(b) ? a : b));
+    }
+    return poly;
+}
+
+// Distance from p along unit dir to where it leaves the convex polygon.
+double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir) {
+    double best = INFINITY;
+    for (std::size_t i = 0, n = convex.size(); i < n; ++i) {
+        const glm::dvec2 a = convex[i], b = convex[(i + 1) % n];
+        const glm::dvec2 e = b - a, outN{e.y, -e.x};
+        const double denom = glm::dot(dir, outN);
+        if (denom <= 1e-12) continue;
+        best = std::min(best, glm::dot(a - p, outN) / denom);
+    }
+    return std::max(0.0, best);
+}
+
+// The piece of convex `poly` with lo <= dot(p, axis) <= hi.
+Polygon2 slab(std::span<const glm::dvec2> poly, glm::dvec2 axis, double lo, double hi) {
+    Polygon2 piece = clipHalfPlane(poly, axis, hi);
+    if (!piece.empty()) piece = clipHalfPlane(piece, -axis, -lo);
+    return piece;
+}
+
+// Where the line {p : dot(p, axis) = value} crosses convex `poly`, as the range of
+// dot(p, other) on it; empty optional when it misses.
+std::optional<std::pair<double, double>> chord(std::span<const glm::dvec2> poly, glm::dvec2 axis, double value,
+                                                glm::dvec2 other) {
+    constexpr double kOnLine = 1e-7;  // vertices this close count as on the line (clipping leaves ~1e-15)
+    double lo = INFINITY, hi = -INFINITY;
+    auto take = [&](glm::dvec2 p) {
+        lo = std::min(lo, glm::dot(p, other));
+        hi = std::max(hi, glm::dot(p, other));
+    };
+    for (std::size_t i = 0, n = poly.size(); i < n; ++i) {
+        const glm::dvec2 a = poly[i], b = poly[(i + 1) % n];
+        const double da = glm::dot(a, axis) - value, db = glm::dot(b, axis) - value;
+        if (std::abs(da) <= kOnLine) take(a);
+        if ((da < -kOnLine && db > kOnLine) || (da > kOnLine && db < -kOnLine)) take(a + (b - a) * (da / (da - db)));
+    }
+    if (!(hi > lo)) return std::nullopt;
+    return std::make_pair(lo, hi);
+}
+
+// --- Floor layout -------------------------------------------------------------------------
+
+enum class LayoutKind { DoubleLoaded, SingleLoaded, Enfilade };
+
+// The cuts shared by every floor of a building, in frame coordinates (u along the front, v inward).
+struct FloorLayout {
+    LayoutKind kind = LayoutKind::Enfilade;
+    double corridor0 = 0, corridor1 = 0;      // corridor strip u range (not Enfilade)
+    std::vector<double> cutsLow, cutsHigh;     // v positions of the cuts on the low-u and high-u sides
+    int stairsSide = 1;                        // 0: low side, 1: high side (Enfilade: the row)
+    double stairs0 = 0, stairs1 = 0;           // v range of the stairs slot
+    bool hasStairs = false;
+};
+
+struct Piece {
+    RoomKind kind = RoomKind::Room;
+    Polygon2 polygon;
+    int side = -1;                  // 0 low, 1 high, -1 corridor / enfilade row
+    double v0 = 0, v1 = 0;          // slot range
+};
+
+struct Section {
+    Polygon2 footprint;  // outer face of the exterior wall
+    Polygon2 inner;      // inner face
+    int firstFloor = 0, floorCount = 0;
+    double y0 = 0, y1 = 0;
+};
+
+struct StairFlight {
+    double footV = 0, endV = 0, tread = 0;  // frame v of the flight's foot and top; step depth
+};
+
+struct BuildContext {
+    const CityRecipe& recipe;
+    PolygonFrame frame;         // from the base footprint's front edge
+    FloorLayout layout;
+    std::vector<double> floorY; // floor f's bottom; floorY[floors] = top of the last storey
+};
+
+double storeyHeightOf(const BuildingRecipe& r, int floor) {
+    return floor == 0 ? r.groundStoreyHeight : r.storeyHeight;
+}
+
+// The flight from `floor` up to the next: it starts past the stairs room's door and fills
+// the slot to a landing at its far end.
+StairFlight stairFlight(const BuildContext& ctx, int floor) {
+    const FloorLayout& L = ctx.layout;
+    const InteriorRecipe& ir = ctx.recipe.interiors;
+    const double rise = ctx.floorY[floor + 1] - ctx.floorY[floor];
+    const int risers = std::max(2, static_cast<int>(std::round(rise / kRiser)));
+    const double start = std::isinf(L.stairs0) ? ctx.recipe.buildings.wallThickness : L.stairs0;
+    const double length = (std::isinf(L.stairs1) ? start + risers * kMinTread + ir.doorWidth + 1.0 : L.stairs1) - start;
+    StairFlight flight;
+    flight.footV = start + ir.doorWidth + 0.8;
+    flight.tread = std::max(kMinTread, (length - ir.doorWidth - 1.0) / risers);
+    flight.endV = flight.footV + risers * flight.tread;
+    return flight;
+}
+
+// Cuts every `width` within [lo, hi] keeping `margin` from both ends, at least `minGap` apart.
+std::vector<double> cutsWithin(double lo, double hi, double width, double margin) {
+    std::vector<double> cuts;
+    const double span = hi - lo;
+    const int slots = static_cast<int>(std::floor(span / width));
+    if (slots < 2) return cuts;
+    for (int i = 1; i < slots; ++i) {
+        const double v = lo + span * i / slots;
+        if (v - lo >= margin && hi - v >= margin) cuts.push_back(v);
+    }
+    return cuts;
+}
+
+std::vector<Piece> splitSide(std::span<const glm::dvec2> poly, const PolygonFrame& f, glm::dvec2 sideAxis,
+                             double sideLo, double sideHi, std::span<const double> cuts, int side,
+                             const FloorLayout& layout) {
+    std::vector<Piece> pieces;
+    const Polygon2 strip = slab(poly, sideAxis, sideLo, sideHi);
+    if (strip.empty()) return pieces;
+    std::vector<double> bounds{-INFINITY};
+    bounds.insert(bounds.end(), cuts.begin(), cuts.end());
+    bounds.push_back(INFINITY);
+    const double vOrigin = glm::dot(f.origin, f.v);
+    for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+        const double lo = bounds[i], hi = bounds[i + 1];
+        const Polygon2 p = slab(strip, f.v, std::isinf(lo) ? -1e30 : lo + vOrigin, std::isinf(hi) ? 1e30 : hi + vOrigin);
+        if (p.size() < 3 || signedArea(p) < 1.0) continue;
+        Piece piece;
+        piece.polygon = p;
+        piece.side = side;
+        piece.v0 = lo;
+        piece.v1 = hi;
+        piece.kind = (layout.hasStairs && side == layout.stairsSide && lo == layout.stairs0 && hi == layout.stairs1)
+                         ? RoomKind::Stairs
+                         : RoomKind::Room;
+        pieces.push_back(std::move(piece));
+    }
+    return pieces;
+}
+
+// The pieces of one floor of `section`.
+std::vector<Piece> layoutPieces(const BuildContext& ctx, const Section& section) {
+    const PolygonFrame& f = ctx.frame;
+    const FloorLayout& L = ctx.layout;
+    const double uOrigin = glm::dot(f.origin, f.u);
+    std::vector<Piece> pieces;
+    if (L.kind == LayoutKind::Enfilade) return splitSide(section.inner, f, f.u, -1e30, 1e30, L.cutsLow, -1, L);
+    Piece corridor;
+    corridor.kind = RoomKind::Corridor;
+    corridor.polygon = slab(section.inner, f.u, L.corridor0 + uOrigin, L.corridor1 + uOrigin);
+    pieces.push_back(corridor);
+    if (L.kind == LayoutKind::DoubleLoaded) {
+        auto low = splitSide(section.inner, f, f.u, -1e30, L.corridor0 + uOrigin, L.cutsLow, 0, L);
+        pieces.insert(pieces.end(), low.begin(), low.end());
+    }
+    auto high = splitSide(section.inner, f, f.u, L.corridor1 + uOrigin, 1e30, L.cutsHigh, 1, L);
+    pieces.insert(pieces.end(), high.begin(), high.end());
+    return pieces;
+}
+
+// Chooses the corridor, the room cuts and the stairs slot from the base section's inner polygon.
+std::optional<FloorLayout> planLayout(const BuildContext& ctx, std::span<const glm::dvec2> inner, int floors,
+                                      Rng& rng) {
+    const InteriorRecipe& ir = ctx.recipe.interiors;
+    const PolygonFrame& f = ctx.frame;
+    FloorLayout L;
+    // The inner polygon's extents in the frame.
+    double u0 = INFINITY, u1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
+    for (glm::dvec2 p : inner) {
+        const glm::dvec2 q = f.toFrame(p);
+        u0 = std::min(u0, q.x), u1 = std::max(u1, q.x), v0 = std::min(v0, q.y), v1 = std::max(v1, q.y);
+    }
+    // The front edge of the inner polygon: the points within 1 cm of its lowest v.
+    double f0 = INFINITY, f1 = -INFINITY;
+    for (glm::dvec2 p : inner) {
+        const glm::dvec2 q = f.toFrame(p);
+        if (q.y < v0 + 0.01) f0 = std::min(f0, q.x), f1 = std::max(f1, q.x);
+    }
+    const double cw = ir.corridorWidth, minDepth = ir.minRoomDepth;
+    const double margin = ir.doorWidth + ir.wallThickness + 0.6;
+    const double uc = 0.5 * (f0 + f1);
+    const double roomWidth = ir.roomWidth * rng.uniform(0.85, 1.2);
+    const double vOrigin = glm::dot(f.origin, f.v), uOrigin = glm::dot(f.origin, f.u);
+    if (f1 - f0 >= cw + 1.0 && uc - cw / 2 - u0 >= minDepth && u1 - (uc + cw / 2) >= minDepth) {
+        L.kind = LayoutKind::DoubleLoaded;
+        L.corridor0 = uc - cw / 2, L.corridor1 = uc + cw / 2;
+    } else if (f1 - f0 >= cw + 1.0 && u1 - (u0 + cw) >= minDepth) {
+        L.kind = LayoutKind::SingleLoaded;
+        L.corridor0 = u0 - 1.0, L.corridor1 = std::max(u0 + cw, f0 + cw);
+        if (u1 - L.corridor1 < minDepth) L.kind = LayoutKind::Enfilade;
+    }
+    // Cuts along each corridor line, within the range where that line crosses the polygon.
+    auto sideCuts = [&](double uLine) -> std::pair<std::vector<double>, std::pair<double, double>> {
+        const auto range = chord(inner, f.u, uLine + uOrigin, f.v);
+        if (!range) return {{}, {0.0, 0.0}};
+        const double lo = range->first - vOrigin, hi = range->second - vOrigin;
+        return {cutsWithin(lo, hi, roomWidth, margin), {lo, hi}};
+    };
+    std::pair<double, double> rangeHigh{v0, v1};
+    if (L.kind == LayoutKind::Enfilade) {
+        L.cutsLow = cutsWithin(v0, v1, roomWidth, margin);
+    } else {
+        if (L.kind == LayoutKind::DoubleLoaded) L.cutsLow = sideCuts(L.corridor0).first;
+        auto [cuts, range] = sideCuts(L.corridor1);
+        L.cutsHigh = cuts;
+        rangeHigh = range;
+    }
+    if (floors < 2) return L;
+    // The stairs: a slot on the high side (the row for an enfilade) long enough for a flight
+    // from the ground floor up (the tallest storey) with a landing and a door at its foot.
+    const double tallest = std::max(ctx.recipe.buildings.groundStoreyHeight, ctx.recipe.buildings.storeyHeight);
+    const int risers = static_cast<int>(std::ceil(tallest / kRiser));
+    const double need = risers * kMinTread + ir.doorWidth + 1.0;
+    std::vector<double>& cuts = L.kind == LayoutKind::Enfilade ? L.cutsLow : L.cutsHigh;
+    const double lo = L.kind == LayoutKind::Enfilade ? v0 : rangeHigh.first;
+    const double hi = L.kind == LayoutKind::Enfilade ? v1 : rangeHigh.second;
+    if (hi - lo < need + 0.2) return std::nullopt;  // no room for stairs: the caller makes it one storey
+    // Replace the cuts near the middle with a stairs slot of length `need`.
+    const double mid = 0.5 * (lo + hi);
+    double s0 = std::clamp(mid - need / 2, lo, hi - need), s1 = s0 + need;
+    std::vector<double> kept;
+    for (double c : cuts)
+        if (c <= s0 - margin || c >= s1 + margin) kept.push_back(c);
+    if (s0 - lo > 0.5) kept.push_back(s0); else s0 = -INFINITY;
+    if (hi - s1 > 0.5) kept.push_back(s1); else s1 = INFINITY;
+    std::sort(kept.begin(), kept.end());
+    cuts = kept;
+    L.hasStairs = true;
+    L.stairsSide = L.kind == LayoutKind::Enfilade ? -1 : 1;
+    L.stairs0 = s0, L.stairs1 = s1;
+    return L;
+}
+
+// --- Meshes -------------------------------------------------------------------------------
+
+// A straight flight from (foot, y0) up to y1 along `dir`, `width` wide to the left of the
+// centre line through `foot`: one closed solid (two sawtooth sides and the step strips).
+void appendStairs(MeshBuilder& mb, glm::dvec2 foot, glm::dvec2 dir, double width, double y0, double y1, double tread) {
+    const int n = std::max(2, static_cast<int>(std::round((y1 - y0) / kRiser)));
+    const double rise = (y1 - y0) / n;
+    // Profile in (distance along dir, height), counter-clockwise seen from the left side.
+    std::vector<glm::dvec2> profile{{0.0, 0.0}};
+    for (int j = 0; j < n; ++j) {
+        profile.push_back({j * tread, (j + 1) * rise});
+        profile.push_back({(j + 1) * tread, (j + 1) * rise});
+    }
+    profile.push_back({n * tread, (n - 1) * rise});
+    profile.push_back({tread, 0.0});
+    // profile runs clockwise in (t, h) as listed; reverse to counter-clockwise.
+    std::reverse(profile.begin(), profile.end());
+    const glm::dvec2 left{-dir.y, dir.x};
+    auto at = [&](glm::dvec2 q, double side) { return glm::dvec3(foot + dir * q.x + left * side, y0 + q.y); };
+    const std::vector<std::uint32_t> tris = triangulatePolygon(profile);
+    const glm::dvec3 leftW = MeshBuilder::planDir(left);
+    MeshBuilder::Uv uv{MeshBuilder::Uv::Wall, dir, 0.0};
+    for (std::size_t t = 0; t < tris.size(); t += 3) {
+        const glm::dvec3 l[3] = {at(profile[tris[t]], width), at(profile[tris[t + 1]], width), at(profile[tris[t + 2]], width)};
+        mb.polygon(l, leftW, kFloor, uv);
+        const glm::dvec3 r[3] = {at(profile[tris[t]], 0.0), at(profile[tris[t + 1]], 0.0), at(profile[tris[t + 2]], 0.0)};
+        mb.polygon(r, -leftW, kFloor, uv);
+    }
+    for (std::size_t i = 0; i < profile.size(); ++i) {
+        const glm::dvec2 a = profile[i], b = profile[(i + 1) % profile.size()];
+        // Outward normal of the profile edge (counter-clockwise: right of the edge), in the world.
+        const glm::dvec2 e = b - a, n2{e.y, -e.x};
+        const glm::dvec3 want = MeshBuilder::planDir(dir) * n2.x + MeshBuilder::up() * n2.y;
+        mb.quad(at(a, 0.0), at(b, 0.0), at(b, width), at(a, width), want, kFloor, {});
+    }
+}
+
+void appendBox(MeshBuilder& mb, glm::dvec2 origin, glm::dvec2 dir, double length, double depth, double y0, double y1,
+               std::uint8_t material) {
+    const glm::dvec2 left{-dir.y, dir.x};
+    const Polygon2 poly{origin, origin + dir * length, origin + dir * length + left * depth, origin + left * depth};
+    mb.prism(poly, y0, y1, material, material, material);
+}
+
+// A ring around convex `poly` from y0 to y1 sticking out by `depth` (floor bands, cornices).
+void appendBand(MeshBuilder& mb, std::span<const glm::dvec2> poly, double depth, double y0, double y1) {
+    const Polygon2 outer = mitreOffset(poly, -depth);
+    const std::size_t n = poly.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        const WallLine w = WallLine::between(outer[i], outer[j], poly[i], poly[j], depth);
+        const Opening none[1] = {};
+        const double levels[2] = {y0, y1};
+        appendWall(mb, w, std::span<const Opening>(none, 0), levels, false, {kTrim, kTrim, kTrim, kTrim});
+    }
+}
+
+struct BuildingStyle {
+    std::uint8_t wall = kBrick;
+    bool shop = false, balconies = false;
+};
+
+// Everything of one section's storeys: exterior rings with openings, interiors, LOD1 facade.
+void buildSection(const BuildContext& ctx, const Section& sec, const BuildingStyle& style, bool isTop, Building& b,
+                  MeshBuilder& lod0, MeshBuilder& lod1, int& entranceRoom) {
+    const BuildingRecipe& br = ctx.recipe.buildings;
+    const InteriorRecipe& ir = ctx.recipe.interiors;
+    const std::size_t n = sec.footprint.size();
+    const double t = br.wallThickness;
+    const double balconyDepth = std::min(1.2, ctx.recipe.lots.setback - br.trimDepth - 0.1);
+    // Perimeter run at each corner for continuous facade u.
+    std::vector<double> run(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) run[i + 1] = run[i] + glm::distance(sec.footprint[i], sec.footprint[(i + 1) % n]);
+    // The front edge of this section: the edge most aligned with the frame's u, nearest the street.
+    std::size_t front = 0;
+    double bestFront = INFINITY;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 d = glm::normalize(sec.footprint[(i + 1) % n] - sec.footprint[i]);
+        if (glm::dot(d, ctx.frame.u) < 0.9) continue;
+        const double v = glm::dot(0.5 * (sec.footprint[i] + sec.footprint[(i + 1) % n]) - ctx.frame.origin, ctx.frame.v);
+        if (v < bestFront) bestFront = v, front = i;
+    }
+    const std::vector<Piece> pieces = layoutPieces(ctx, sec);
+    // LOD1 openings per edge, over all storeys (their columns are shared by every storey).
+    std::vector<std::vector<Opening>> lod1Openings(n);
+    std::vector<std::vector<std::pair<int, std::vector<Opening>>>> lod1PerStorey(n);
+
+    for (int floor = sec.firstFloor; floor < sec.firstFloor + sec.floorCount; ++floor) {
+        const double y0 = ctx.floorY[floor], y1 = ctx.floorY[floor + 1];
+        const double slabTop = y0 + ir.slabThickness;
+        const int firstRoom = static_cast<int>(b.rooms.size());
+        for (const Piece& p : pieces) b.rooms.push_back({static_cast<int>(b.rooms.size()), floor, p.kind, p.polygon});
+        b.roomsPerFloor.push_back(static_cast<int>(pieces.size()));
+
+        // Openings on each exterior edge: windows per room interval, the entrance, balcony doors.
+        std::vector<std::vector<Opening>> openings(n);
+        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+            const Piece& piece = pieces[pi];
+            const int roomId = firstRoom + static_cast<int>(pi);
+            const std::size_t m = piece.polygon.size();
+            for (std::size_t e = 0; e < n; ++e) {
+                const glm::dvec2 a = sec.inner[e], c = sec.inner[(e + 1) % n];
+                const glm::dvec2 dir = glm::normalize(c - a), inward{-dir.y, dir.x};
+                const glm::dvec2 o = sec.footprint[e];
+                // The piece's edges on this inner edge, as an s interval (distance from the outer corner).
+                double sa = INFINITY, sb = -INFINITY;
+                for (std::size_t k = 0; k < m; ++k) {
+                    const glm::dvec2 p = piece.polygon[k], q = piece.polygon[(k + 1) % m];
+                    if (std::abs(cross2(dir, p - a)) > 1e-6 || std::abs(cross2(dir, q - a)) > 1e-6) continue;
+                    if (glm::dot(q - p, dir) <= 0.0) continue;
+                    sa = std::min(sa, glm::dot(p - o, dir));
+                    sb = std::max(sb, glm::dot(q - o, dir));
+                }
+                if (!(sb > sa)) continue;
+                const double endMargin = ir.wallThickness / 2 + 0.3;
+                const double lo = sa + endMargin, hi = sb - endMargin, avail = hi - lo;
+                const bool isFront = e == front && floor == 0;
+                const glm::dvec2 boxOrigin = o + dir * sa;
+                auto addWindow = [&](double centre, double width, double sill, double height, bool door) {
+                    Opening op;
+                    op.s0 = centre - width / 2, op.s1 = centre + width / 2;
+                    op.z0 = sill, op.z1 = sill + height;
+                    op.kind = Opening::Window;
+                    const glm::dvec2 mid = o + dir * centre + inward * t;
+                    const double depth = rayExit(piece.polygon, mid, inward);
+                    MeshBuilder::Glass g;
+                    g.origin = boxOrigin;
+                    g.floorY = slabTop;
+                    g.dir = dir;
+                    g.depthIndex = {static_cast<float>(depth), static_cast<float>(roomId)};
+                    g.size = {static_cast<float>(sb - sa), static_cast<float>(y1 - slabTop)};
+                    op.glass = g;
+                    openings[e].push_back(op);
+                    b.windows.push_back({roomId, floor, mid, inward, width, sill, height, depth, door});
+                    if (door && balconyDepth > 0.5) {
+                        // The balcony: a slab and three railings, outside the door.
+                        const glm::dvec2 outward = -inward, start = o + dir * (op.s0 - 0.4);
+                        const double len = op.s1 - op.s0 + 0.8;
+                        const glm::dvec2 edgeA = start, edgeB = start + outward * balconyDepth;
+                        appendBox(lod0, edgeB, dir, len, balconyDepth, slabTop - 0.2, slabTop, kConcrete);
+                        appendBox(lod0, edgeB, dir, len, 0.06, slabTop, slabTop + 1.0, kMetal);
+                        appendBox(lod0, edgeA, outward, balconyDepth, 0.06, slabTop, slabTop + 1.0, kMetal);
+                        appendBox(lod0, start + dir * (len - 0.06), outward, balconyDepth, 0.06, slabTop, slabTop + 1.0, kMetal);
+                    }
+                };
+                const bool entrance = isFront && (piece.kind == RoomKind::Corridor ||
+                                                  (ctx.layout.kind == LayoutKind::Enfilade && pi == 0));
+                if (entrance) {
+                    const double w = std::min(br.doorWidth, avail);
+                    if (w < 0.8) continue;
+                    Opening door;
+                    door.s0 = 0.5 * (lo + hi) - w / 2, door.s1 = door.s0 + w;
+                    door.z0 = slabTop, door.z1 = std::min(y0 + br.doorHeight, y1 - 0.3);
+                    door.kind = Opening::Door;
+                    openings[e].push_back(door);
+                    b.doors.push_back({roomId, -1, false, o + dir * (0.5 * (lo + hi))});
+                    entranceRoom = roomId;
+                    continue;
+                }
+                if (isFront && style.shop && piece.kind == RoomKind::Room) {
+                    const int k = std::max(1, static_cast<int>(std::floor(avail / br.bayWidth)));
+                    const double bay = avail / k, w = bay - 0.5;
+                    if (w < 0.8) continue;
+                    for (int i = 0; i < k; ++i)
+                        addWindow(lo + bay * (i + 0.5), w, slabTop + 0.3, std::min(y1 - 0.5, slabTop + 2.8) - slabTop - 0.3, false);
+                    continue;
+                }
+                const double w = br.windowWidth;
+                const int k = static_cast<int>(std::floor((avail + br.bayWidth - w) / br.bayWidth));
+                if (k < 1) continue;
+                const double sill = y0 + std::max(br.sillHeight, ir.slabThickness + 0.05);
+                const double wh = std::min(br.windowHeight, y1 - 0.25 - sill);
+                if (wh < 0.4) continue;
+                const double span = (k - 1) * br.bayWidth;
+                for (int i = 0; i < k; ++i) {
+                    const double centre = 0.5 * (lo + hi) - span / 2 + i * br.bayWidth;
+                    const bool balcony = style.balconies && floor > 0 && e == front && i == 0 &&
+                                         piece.kind == RoomKind::Room && balconyDepth > 0.5;
+                    if (balcony)
+                        addWindow(centre, w, slabTop, std::min(2.3, y1 - 0.25 - slabTop), true);
+                    else
+                        addWindow(centre, w, sill, wh, false);
+                }
+            }
+        }
+        for (auto& list : openings)
+            std::sort(list.begin(), list.end(), [](const Opening& x, const Opening& y) { return x.s0 < y.s0; });
+        // The exterior ring of this storey: one closed solid.
+        const std::vector<double> levels = levelsOf(y0, y1, openings);
+        const std::uint8_t outer = floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
+        for (std::size_t e = 0; e < n; ++e) {
+            WallLine w = WallLine::between(sec.footprint[e], sec.footprint[(e + 1) % n], sec.inner[e], sec.inner[(e + 1) % n], t);
+            w.uOffset = run[e];
+            appendWall(lod0, w, openings[e], levels, false, {outer, kInteriorWall, style.wall, kTrim});
+            lod1PerStorey[e].push_back({floor, openings[e]});
+        }
+        // A floor band under every storey above the ground; a cornice on top of the section.
+        // (none on a section's first storey: the ground, or the terrace below a tower)
+        if (floor > sec.firstFloor) appendBand(lod0, sec.footprint, br.trimDepth, y0 - kBandHeight / 2, y0 + kBandHeight / 2);
+
+        // Interiors: slabs, interior walls with doors, stairs.
+        if (!ir.enabled) continue;
+        const PolygonFrame& f = ctx.frame;
+        const double vOrigin = glm::dot(f.origin, f.v);
+        for (const Piece& piece : pieces) {
+            if (piece.kind != RoomKind::Stairs || floor == 0) {
+                lod0.prism(piece.polygon, y0, slabTop, kFloor, kFloor, kFloor);
+                continue;
+            }
+            // Above the ground the stairs room has a floor at the door and a landing where the
+            // flight from below arrives; the rest is the stairwell.
+            const StairFlight below = stairFlight(ctx, floor - 1);
+            for (const Polygon2& part : {slab(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
+                                         slab(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
+                if (part.size() >= 3 && signedArea(part) > 0.05) lod0.prism(part, y0, slabTop, kFloor, kFloor, kFloor);
+        }
+        const double wallTop = y1;
+        auto interiorWall = [&](glm::dvec2 a, glm::dvec2 c, std::optional<double> doorAt) {
+            const WallLine w = WallLine::centred(a, c, ir.wallThickness);
+            std::vector<Opening> ops;
+            if (doorAt) {
+                Opening d;
+                d.s0 = *doorAt - ir.doorWidth / 2, d.s1 = *doorAt + ir.doorWidth / 2;
+                // A notch from the floor's bottom: the slabs on both sides fill it up to the floor.
+                d.z0 = y0, d.z1 = std::min(slabTop + ir.doorHeight, wallTop - 0.1);
+                d.kind = Opening::Door;
+                d.leaf = false;
+                if (d.s0 > 0.05 && d.s1 < w.length - 0.05) ops.push_back(d);
+            }
+            // From the floor's bottom (through the slab) to the ceiling.
+            const std::vector<double> levels = levelsOf(y0, wallTop, std::span<const std::vector<Opening>>(&ops, 1));
+            appendWall(lod0, w, ops, levels, true, {kInteriorWall, kInteriorWall, kInteriorWall, kInteriorWall});
+            return !ops.empty();
+        };
+        const double uOrigin = glm::dot(f.origin, f.u);
+        const FloorLayout& L = ctx.layout;
+        auto linePoint = [&](double u, double v) { return f.origin + f.u * u + f.v * v; };
+        // Walls along the corridor, one per room with its door; cuts between rooms.
+        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+            const Piece& piece = pieces[pi];
+            const int roomId = firstRoom + static_cast<int>(pi);
+            if (piece.kind == RoomKind::Corridor) continue;
+            if (L.kind != LayoutKind::Enfilade) {
+                const double uLine = piece.side == 0 ? L.corridor0 : L.corridor1;
+                const auto range = chord(piece.polygon, f.u, uLine + uOrigin, f.v);
+                if (!range) continue;
+                const double a = range->first - vOrigin, c = range->second - vOrigin;
+                if (c - a < 0.3) continue;
+                const double doorAt = piece.kind == RoomKind::Stairs
+                                          ? std::min(c - a - ir.doorWidth, ir.doorWidth / 2 + 0.3)
+                                          : 0.5 * (c - a);
+                const bool door = interiorWall(linePoint(uLine, a), linePoint(uLine, c), doorAt);
+                if (door) b.doors.push_back({roomId, firstRoom, false, linePoint(uLine, a + doorAt)});
+            }
+            // The cut at the piece's far end (v1), shared with the next piece of the same side.
+            if (std::isinf(piece.v1)) continue;
+            const auto range = chord(piece.polygon, f.v, piece.v1 + vOrigin, f.u);
+            if (!range) continue;
+            const double a = range->first - uOrigin, c = range->second - uOrigin;
+            if (c - a < 0.3) continue;
+            const bool enfilade = L.kind == LayoutKind::Enfilade;
+            // Cut walls run from low u to high u; an enfilade cut has a door into the next room.
+            const glm::dvec2 pa = linePoint(a, piece.v1), pc = linePoint(c, piece.v1);
+            const bool door = interiorWall(pa, pc, enfilade ? std::optional<double>(0.5 * (c - a)) : std::nullopt);
+            if (enfilade && door && pi + 1 < pieces.size())
+                b.doors.push_back({roomId, roomId + 1, false, linePoint(0.5 * (a + c), piece.v1)});
+        }
+        // Stairs: from this floor's slab up to the next one's.
+        if (floor + 1 < b.floors && L.hasStairs) {
+            for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+                const Piece& piece = pieces[pi];
+                if (piece.kind != RoomKind::Stairs) continue;
+                const StairFlight flight = stairFlight(ctx, floor);
+                double uSide = L.corridor1 + ir.wallThickness / 2 + 0.05;
+                if (L.kind == LayoutKind::Enfilade) {
+                    uSide = INFINITY;
+                    for (glm::dvec2 p : piece.polygon) uSide = std::min(uSide, f.toFrame(p).x + 0.1);
+                }
+                appendStairs(lod0, linePoint(uSide + kStairWidth, flight.footV), f.v, kStairWidth, slabTop,
+                             ctx.floorY[floor + 1] + ir.slabThickness, flight.tread);
+            }
+        }
+    }
+
+    // LOD1: the facade shell of the section, one closed prism; every storey uses the union of
+    // all storeys' columns on its edge, so storeys meet vertex to vertex.
+    // Every edge of a storey uses the rows of all its openings, so corners meet vertex to vertex.
+    std::vector<std::vector<double>> storeyLevels;
+    for (int storey = 0; storey < sec.floorCount; ++storey) {
+        std::vector<std::vector<Opening>> all;
+        for (std::size_t e = 0; e < n; ++e) all.push_back(lod1PerStorey[e][static_cast<std::size_t>(storey)].second);
+        const int floor = sec.firstFloor + storey;
+        storeyLevels.push_back(levelsOf(ctx.floorY[floor], ctx.floorY[floor + 1], all));
+    }
+    for (std::size_t e = 0; e < n; ++e) {
+        const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
+        const glm::dvec2 dir = glm::normalize(c - a);
+        std::vector<double> cols{0.0, glm::distance(a, c)};
+        for (const auto& [floor, ops] : lod1PerStorey[e])
+            for (const Opening& op : ops) cols.insert(cols.end(), {op.s0, op.s1});
+        std::sort(cols.begin(), cols.end());
+        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+        auto point = [&](std::size_t k) { return k == 0 ? a : k + 1 == cols.size() ? c : a + dir * cols[k]; };
+        const glm::dvec3 out = MeshBuilder::outward(dir);
+        const MeshBuilder::Uv uv{MeshBuilder::Uv::Wall, dir, run[e] - glm::dot(a, dir)};
+        for (std::size_t storey = 0; storey < lod1PerStorey[e].size(); ++storey) {
+            const auto& [floor, ops] = lod1PerStorey[e][storey];
+            const std::vector<double>& levels = storeyLevels[storey];
+            const std::uint8_t wall = floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
+            for (std::size_t k = 0; k + 1 < cols.size(); ++k) {
+                const double sm = 0.5 * (cols[k] + cols[k + 1]);
+                const Opening* hit = nullptr;
+                for (const Opening& op : ops)
+                    if (sm > op.s0 && sm < op.s1) hit = &op;
+                for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
+                    const double za = levels[r], zb = levels[r + 1];
+                    const bool inside = hit && za >= hit->z0 && zb <= hit->z1;
+                    const MeshBuilder::Glass* glass = inside && hit->glass ? &*hit->glass : nullptr;
+                    lod1.quad({point(k), za}, {point(k + 1), za}, {point(k + 1), zb}, {point(k), zb}, out,
+                              inside ? std::uint8_t{glass ? kGlass : kWood} : wall, uv, glass);
+                }
+            }
+        }
+    }
+    // Bottom and top caps of the LOD1 prism, with every column point on their boundary.
+    for (double y : {sec.y0, sec.y1}) {
+        std::vector<glm::dvec2> ring;
+        for (std::size_t e = 0; e < n; ++e) {
+            const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
+            const glm::dvec2 dir = glm::normalize(c - a);
+            std::vector<double> cols;
+            for (const auto& [floor, ops] : lod1PerStorey[e])
+                for (const Opening& op : ops) cols.insert(cols.end(), {op.s0, op.s1});
+            std::sort(cols.begin(), cols.end());
+            cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+            ring.push_back(a);
+            for (double s : cols) ring.push_back(a + dir * s);
+        }
+        const glm::dvec2 mid = centroid(sec.footprint);
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+            const glm::dvec3 tri[3] = {{ring[i], y}, {ring[(i + 1) % ring.size()], y}, {mid, y}};
+            lod1.polygon(tri, y == sec.y0 ? -MeshBuilder::up() : MeshBuilder::up(), y == sec.y0 ? kConcrete : kRoofFlat, {});
+        }
+    }
+    if (!isTop) appendBand(lod0, sec.footprint, br.trimDepth, sec.y1 - kBandHeight, sec.y1);
+}
+
+std::uint8_t pick(Rng& rng, std::initializer_list<std::uint8_t> options) {
+    return *(options.begin() + static_cast<std::ptrdiff_t>(rng.below(options.size())));
+}
+
+}  // namespace
+
+Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
+    const BuildingRecipe& br = recipe.buildings;
+    const InteriorRecipe& ir = recipe.interiors;
+    Building b;
+    b.id = b.lot = lot.id;
+    Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
+    const double setback = recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter;
+    Polygon2 footprint = insetPolygon(lot.polygon, setback);
+    footprint = dropShortEdges(simplifyPolygon(footprint, 0.01), kMinEdge);
+    if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint)) return b;
+    const Polygon2 inner = mitreOffset(footprint, br.wallThickness);
+    if (!isConvex(inner) || signedArea(inner) < 4.0) return b;
+
+    // The footprint edge facing the lot's front street: parallel to it and nearest.
+    const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
+    const glm::dvec2 fb = lot.polygon[(static_cast<std::size_t>(lot.frontEdge) + 1) % lot.polygon.size()];
+    const glm::dvec2 frontDir = glm::normalize(fb - fa);
+    std::size_t frontEdge = 0;
+    double best = -INFINITY;
+    for (std::size_t i = 0; i < footprint.size(); ++i) {
+        const glm::dvec2 d = glm::normalize(footprint[(i + 1) % footprint.size()] - footprint[i]);
+        const double score = glm::dot(d, frontDir) * 100.0 - distanceToSegment(footprint[i], fa, fb);
+        if (score > best) best = score, frontEdge = i;
+    }
+
+    BuildContext ctx{recipe, edgeFrame(footprint, frontEdge), {}, {}};
+    BuildingStyle style;
+    style.wall = pick(rng, {kBrick, kConcrete, kPlaster});
+    style.shop = rng.uniform() < br.shopChance;
+    style.balconies = rng.uniform() < br.balconyChance;
+    // Floors: skewed towards the low end.
+    const double x = rng.uniform();
+    int floors = br.minFloors + static_cast<int>(std::floor(x * x * (br.maxFloors - br.minFloors + 1)));
+    floors = std::clamp(floors, br.minFloors, br.maxFloors);
+    int towerFloors = 0;
+    const bool wantTower = rng.uniform() < br.towerChance && br.towerExtraFloors > 0;
+    if (wantTower) towerFloors = rng.range(std::min(2, br.towerExtraFloors), br.towerExtraFloors);
+    // Roof type by weight; tall buildings get flat roofs.
+    const double weights[4] = {recipe.roofs.flat, recipe.roofs.hip, recipe.roofs.gable, recipe.roofs.shed};
+    double pickW = rng.uniform() * (weights[0] + weights[1] + weights[2] + weights[3]);
+    int roofIndex = 0;
+    while (roofIndex < 3 && pickW >= weights[roofIndex]) pickW -= weights[roofIndex++];
+
+    std::optional<FloorLayout> layout = planLayout(ctx, inner, floors + towerFloors, rng);
+    if (!layout) {
+        floors = 1, towerFloors = 0;
+        layout = planLayout(ctx, inner, 1, rng);
+    }
+    ctx.layout = *layout;
+    // A tower needs a corridor with rooms on both sides whose stairs survive the setback.
+    Polygon2 towerFootprint, towerInner;
+    if (towerFloors > 0) {
+        towerFootprint = dropShortEdges(simplifyPolygon(insetPolygon(footprint, br.towerSetback), 0.01), kMinEdge);
+        bool ok = ctx.layout.kind == LayoutKind::DoubleLoaded && ctx.layout.hasStairs && towerFootprint.size() >= 3 &&
+                  isConvex(towerFootprint);
+        if (ok) {
+            towerInner = mitreOffset(towerFootprint, br.wallThickness);
+            ok = isConvex(towerInner);
+        }
+        if (ok) {
+            const PolygonFrame& f = ctx.frame;
+            const auto range = chord(towerInner, f.u, ctx.layout.corridor1 + glm::dot(f.origin, f.u), f.v);
+            const double vOrigin = glm::dot(f.origin, f.v);
+            ok = range && range->first - vOrigin < ctx.layout.stairs0 - 0.5 && range->second - vOrigin > ctx.layout.stairs1 + 0.5 &&
+                 !std::isinf(ctx.layout.stairs0) && !std::isinf(ctx.layout.stairs1);
+            const auto low = chord(towerInner, f.u, ctx.layout.corridor0 + glm::dot(f.origin, f.u), f.v);
+            ok = ok && low && low->second - low->first > 2.0;
+        }
+        if (!ok) towerFloors = 0, towerFootprint.clear(), towerInner.clear();
+    }
+    b.floors = floors + towerFloors;
+    b.baseFloors = floors;
+    b.footprint = footprint;
+    b.towerFootprint = towerFootprint;
+    b.wallMaterial = style.wall;
+    ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, 0.0);
+    for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(br, fl);
+
+    Mesh& m0 = b.lod0;
+    Mesh& m1 = b.lod1;
+    MeshBuilder lod0(m0), lod1(m1);
+    int entranceRoom = -1;
+    Section base{footprint, inner, 0, floors, 0.0, ctx.floorY[floors]};
+    buildSection(ctx, base, style, towerFloors == 0, b, lod0, lod1, entranceRoom);
+    if (towerFloors > 0) {
+        Section tower{towerFootprint, towerInner, floors, towerFloors, ctx.floorY[floors], ctx.floorY[b.floors]};
+        // The base's roof: a flat terrace under the tower.
+        RoofSettings terrace;
+        terrace.type = RoofType::Flat;
+        terrace.parapetHeight = recipe.roofs.parapetHeight;
+        terrace.parapetWidth = recipe.roofs.parapetWidth;
+        terrace.slabThickness = ir.slabThickness;
+        terrace.wallMaterial = style.wall;
+        const Roof terraceRoof = buildRoof(footprint, ctx.floorY[floors], terrace);
+        appendMesh(m0, terraceRoof.mesh);
+        appendMesh(m1, terraceRoof.mesh);
+        buildSection(ctx, tower, style, true, b, lod0, lod1, entranceRoom);
+    }
+    // The roof over the top section.
+    const Polygon2& top = towerFloors > 0 ? towerFootprint : footprint;
+    RoofSettings rs;
+    rs.type = static_cast<RoofType>(roofIndex);
+    if (b.floors > recipe.roofs.maxPitchedFloors || towerFloors > 0) rs.type = RoofType::Flat;
+    rs.pitch = recipe.roofs.pitch;
+    rs.parapetHeight = recipe.roofs.parapetHeight;
+    rs.parapetWidth = recipe.roofs.parapetWidth;
+    rs.slabThickness = ir.slabThickness;
+    rs.wallMaterial = style.wall;
+    // The ridge of a gable runs along the street; a shed rises towards it.
+    for (std::size_t i = 0; i < top.size(); ++i) {
+        const glm::dvec2 d = glm::normalize(top[(i + 1) % top.size()] - top[i]);
+        if (glm::dot(d, ctx.frame.u) > 0.99) { rs.frontEdge = i; break; }
+    }
+    // A shed rises over the whole depth: keep it a lean-to, not a wedge.
+    if (rs.type == RoofType::Shed) {
+        const PolygonFrame depth = edgeFrame(top, rs.frontEdge);
+        rs.pitch = std::min(rs.pitch, kMaxShedRise / std::max(1.0, depth.vMax - depth.vMin));
+    }
+    const Roof roof = buildRoof(top, ctx.floorY[b.floors], rs);
+    appendMesh(m0, roof.mesh);
+    appendMesh(m1, roof.mesh);
+    b.roof = rs.type;
+    b.height = ctx.floorY[b.floors] + roof.height;
+    // Stairs join the stairs rooms of consecutive floors.
+    for (std::size_t i = 0; i < b.rooms.size(); ++i) {
+        if (b.rooms[i].kind != RoomKind::Stairs) continue;
+        for (std::size_t j = i + 1; j < b.rooms.size(); ++j)
+            if (b.rooms[j].kind == RoomKind::Stairs && b.rooms[j].floor == b.rooms[i].floor + 1) {
+                b.doors.push_back({b.rooms[i].id, b.rooms[j].id, true, centroid(b.rooms[i].polygon)});
+                break;
+            }
+    }
+    (void)entranceRoom;
+    return b;
+}
+
+}  // namespace dawnforge::procgen

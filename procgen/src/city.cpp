@@ -1,1 +1,294 @@
-// (being written)
+// The district: plan, ground, buildings (in parallel, one sub-seed each), report and scene.
+#include <dawnforge/procgen/city.hpp>
+#include <dawnforge/procgen/materials.hpp>
+#include "mesh_builder.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+
+namespace dawnforge::procgen {
+
+namespace {
+
+constexpr double kCellSize = 10.0;  // ground grid
+// The sea floor starts falling this far out from the coastline: ground cells are coarser
+// than the coast's curve, and a cell that dipped early would cut into the promenade.
+constexpr double kQuay = 1.5 * kCellSize;
+
+// Ground height at a plan point: 0 on land and along the quay, falling under the sea.
+double groundHeight(const CityPlan& plan, const CoastRecipe& coast, glm::dvec2 p) {
+    const double fall = coastY(plan, p.x) - kQuay - p.y;
+    if (fall <= 0.0) return 0.0;
+    return -std::min(coast.seabedDepth, fall * coast.seabedSlope);
+}
+
+// The ground of one tile: its cells (asphalt on land, sand where any corner is under water)
+// and the kerbs of its blocks (sidewalk prisms).
+Mesh tileGround(const City& city, glm::ivec2 tile, std::vector<int>& blocks) {
+    const CitySettings& s = city.settings;
+    Mesh mesh;
+    mesh.name = format("ground_{}_{}", tile.x, tile.y);
+    MeshBuilder mb(mesh);
+    const int nx = static_cast<int>(std::ceil(s.size.x / kCellSize)), ny = static_cast<int>(std::ceil(s.size.y / kCellSize));
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const double x0 = i * kCellSize, x1 = std::min(s.size.x, x0 + kCellSize);
+            const double y0 = j * kCellSize, y1 = std::min(s.size.y, y0 + kCellSize);
+            if (tileOf(s, {0.5 * (x0 + x1), 0.5 * (y0 + y1)}) != tile) continue;
+            const glm::dvec2 c[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+            glm::dvec3 p[4];
+            bool wet = false;
+            for (int k = 0; k < 4; ++k) {
+                p[k] = {c[k], groundHeight(city.plan, s.recipe.coast, c[k])};
+                wet = wet || p[k].z < 0.0;
+            }
+            const std::uint8_t material = wet ? kSand : kAsphalt;
+            // Two triangles split along the diagonal that keeps the surface's shape.
+            const glm::dvec3 a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[2], p[3]};
+            mb.polygon(a, MeshBuilder::up(), material, {});
+            mb.polygon(b, MeshBuilder::up(), material, {});
+        }
+    for (const Block& block : city.plan.blocks) {
+        if (tileOf(s, centroid(block.curb)) != tile) continue;
+        blocks.push_back(block.id);
+        mb.prismAny(block.curb, 0.0, s.recipe.streets.curbHeight, kPaving, kPaving);
+    }
+    // Flat normals of the sloped cells: the builder gave them +Y; recompute per triangle.
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        const glm::vec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
+                        c = mesh.positions[mesh.indices[t + 2]];
+        const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+        if (mesh.normals[mesh.indices[t]].y == 1.0f && n.y > 0.0f)
+            for (int k = 0; k < 3; ++k) mesh.normals[mesh.indices[t + k]] = n;
+    }
+    // uv1/uv2 carry nothing on the ground.
+    mesh.uv1.clear();
+    mesh.uv2.clear();
+    return mesh;
+}
+
+std::string buildingName(int id) {
+    char name[32];
+    std::snprintf(name, sizeof name, "building_%05d", id);
+    return name;
+}
+
+nlohmann::ordered_json point(glm::dvec2 p) {
+    auto r = [](double v) { return std::round(v * 1000.0) / 1000.0; };
+    return nlohmann::ordered_json::array({r(p.x), r(p.y)});
+}
+nlohmann::ordered_json points(std::span<const glm::dvec2> ps) {
+    auto out = nlohmann::ordered_json::array();
+    for (glm::dvec2 p : ps) out.push_back(point(p));
+    return out;
+}
+
+}  // namespace
+
+glm::ivec2 tileCount(const CitySettings& s) {
+    return {std::max(1, static_cast<int>(std::ceil(s.size.x / s.tileSize - 1e-9))),
+            std::max(1, static_cast<int>(std::ceil(s.size.y / s.tileSize - 1e-9)))};
+}
+
+glm::ivec2 tileOf(const CitySettings& s, glm::dvec2 p) {
+    const glm::ivec2 n = tileCount(s);
+    return {std::clamp(static_cast<int>(std::floor(p.x / s.tileSize)), 0, n.x - 1),
+            std::clamp(static_cast<int>(std::floor(p.y / s.tileSize)), 0, n.y - 1)};
+}
+
+City generateCity(const CitySettings& settings, const ProgressFn& progress) {
+    auto report = [&](double f) {
+        if (progress && !progress(f)) throw Cancelled();
+    };
+    if (!(std::isfinite(settings.size.x) && std::isfinite(settings.size.y) && settings.size.x > 0 && settings.size.y > 0))
+        throw InputError(format("--size: the city must be larger than 0 x 0 m (got {} x {})", settings.size.x, settings.size.y));
+    if (settings.size.x > 20000 || settings.size.y > 20000)
+        throw InputError(format("--size: at most 20000 x 20000 m (got {} x {})", settings.size.x, settings.size.y));
+    if (!(std::isfinite(settings.tileSize) && settings.tileSize >= 10.0))
+        throw InputError(format("--tile-size: must be at least 10 m (got {})", settings.tileSize));
+    const glm::ivec2 count = tileCount(settings);
+    if (settings.tile && (settings.tile->x < 0 || settings.tile->y < 0 || settings.tile->x >= count.x || settings.tile->y >= count.y))
+        throw InputError(format("--tile {},{}: outside the city, which has {} x {} tiles of {} m (0,0 to {},{})",
+                                settings.tile->x, settings.tile->y, count.x, count.y, settings.tileSize, count.x - 1,
+                                count.y - 1));
+    validateRecipe(settings.recipe, "recipe");
+
+    City city;
+    city.settings = settings;
+    city.plan = planCity(settings.recipe, settings.seed, settings.size,
+                         [&](double f) { return !progress || progress(0.1 * f); });
+    report(0.1);
+
+    for (int j = 0; j < count.y; ++j)
+        for (int i = 0; i < count.x; ++i)
+            if (!settings.tile || *settings.tile == glm::ivec2(i, j)) city.tiles.push_back({{i, j}, {}, {}, {}});
+    auto tileSlot = [&](glm::ivec2 t) -> int {
+        for (std::size_t k = 0; k < city.tiles.size(); ++k)
+            if (city.tiles[k].index == t) return static_cast<int>(k);
+        return -1;
+    };
+    // The lots of the generated tiles, in lot order.
+    std::vector<const Lot*> lots;
+    for (const Lot& lot : city.plan.lots)
+        if (tileSlot(tileOf(settings, centroid(lot.polygon))) >= 0) lots.push_back(&lot);
+    std::vector<Building> built(lots.size());
+    std::atomic<std::size_t> done{0};
+    std::mutex progressMutex;
+    bool cancelled = false;
+    tbb::parallel_for(std::size_t(0), lots.size(), [&](std::size_t k) {
+        built[k] = buildBuilding(*lots[k], settings.recipe, settings.seed);
+        const std::size_t finished = ++done;
+        if (progress && finished % 16 == 0) {
+            std::lock_guard lock(progressMutex);
+            if (!progress(0.1 + 0.8 * double(finished) / double(lots.size()))) cancelled = true;
+        }
+    });
+    if (cancelled) throw Cancelled();
+    for (Building& b : built) {
+        if (b.floors == 0) continue;
+        const int slot = tileSlot(tileOf(settings, centroid(city.plan.lots[static_cast<std::size_t>(b.lot)].polygon)));
+        city.tiles[static_cast<std::size_t>(slot)].buildings.push_back(static_cast<int>(city.buildings.size()));
+        city.buildings.push_back(std::move(b));
+    }
+    report(0.9);
+    tbb::parallel_for(std::size_t(0), city.tiles.size(), [&](std::size_t k) {
+        city.tiles[k].ground = tileGround(city, city.tiles[k].index, city.tiles[k].blocks);
+    });
+    report(1.0);
+    return city;
+}
+
+std::string cityReportJson(const City& city) {
+    using Json = nlohmann::ordered_json;
+    const CitySettings& s = city.settings;
+    Json j;
+    j["generator"] = "dawnforge city";
+    j["seed"] = s.seed;
+    j["size"] = {s.size.x, s.size.y};
+    j["coordinates"] = "plan metres: x east, y north; glTF position = (x, height, -y)";
+    j["tile_size"] = s.tileSize;
+    const glm::ivec2 count = tileCount(s);
+    j["tiles"] = {count.x, count.y};
+    j["tile"] = s.tile ? Json::array({s.tile->x, s.tile->y}) : Json(nullptr);
+    j["recipe"] = Json::parse(recipeJson(s.recipe));
+
+    std::size_t floors = 0, rooms = 0, windows = 0, tri0 = 0, tri1 = 0, triGround = 0;
+    for (const Building& b : city.buildings) {
+        floors += static_cast<std::size_t>(b.floors);
+        rooms += b.rooms.size();
+        windows += b.windows.size();
+        tri0 += b.lod0.triangleCount();
+        tri1 += b.lod1.triangleCount();
+    }
+    for (const CityTile& t : city.tiles) triGround += t.ground.triangleCount();
+    std::vector<int> blockIds;
+    for (const CityTile& t : city.tiles) blockIds.insert(blockIds.end(), t.blocks.begin(), t.blocks.end());
+    std::sort(blockIds.begin(), blockIds.end());
+    std::size_t lotCount = 0;
+    for (int id : blockIds) lotCount += city.plan.blocks[static_cast<std::size_t>(id)].lots.size();
+    // Streets: those that reach a generated tile.
+    Json streets = Json::array();
+    for (const Street& street : city.plan.streets) {
+        bool reaches = !s.tile;
+        for (glm::dvec2 p : street.polyline) reaches = reaches || tileOf(s, p) == *s.tile;
+        if (!reaches) continue;
+        streets.push_back({{"id", street.id}, {"major", street.major}, {"width", street.width}, {"polyline", points(street.polyline)}});
+    }
+    j["counts"] = {{"streets", streets.size()},
+                   {"blocks", blockIds.size()},
+                   {"lots", lotCount},
+                   {"buildings", city.buildings.size()},
+                   {"floors", floors},
+                   {"rooms", rooms},
+                   {"windows", windows},
+                   {"triangles", {{"lod0", tri0}, {"lod1", tri1}, {"ground", triGround}}}};
+    j["coastline"] = points(city.plan.coastline);
+    j["streets"] = std::move(streets);
+    Json blocks = Json::array();
+    for (int id : blockIds) {
+        const Block& block = city.plan.blocks[static_cast<std::size_t>(id)];
+        Json lots = Json::array();
+        for (int lotId : block.lots) {
+            const Lot& lot = city.plan.lots[static_cast<std::size_t>(lotId)];
+            lots.push_back({{"id", lot.id}, {"polygon", points(lot.polygon)}, {"front_edge", lot.frontEdge}});
+        }
+        blocks.push_back({{"id", block.id}, {"curb", points(block.curb)}, {"lots", std::move(lots)}});
+    }
+    j["blocks"] = std::move(blocks);
+    Json buildings = Json::array();
+    for (const Building& b : city.buildings) {
+        const Lot& lot = city.plan.lots[static_cast<std::size_t>(b.lot)];
+        const glm::ivec2 tile = tileOf(s, centroid(lot.polygon));
+        Json rpf = Json::array();
+        for (int r : b.roomsPerFloor) rpf.push_back(r);
+        Json one = {{"id", b.id},
+                    {"name", buildingName(b.id)},
+                    {"lot", b.lot},
+                    {"tile", {tile.x, tile.y}},
+                    {"lot_polygon", points(lot.polygon)},
+                    {"footprint", points(b.footprint)},
+                    {"height", std::round(b.height * 1000.0) / 1000.0},
+                    {"floors", b.floors},
+                    {"roof", roofTypeName(b.roof)},
+                    {"wall_material", materialName(b.wallMaterial)},
+                    {"rooms_per_floor", std::move(rpf)},
+                    {"windows", b.windows.size()},
+                    {"triangles", {{"lod0", b.lod0.triangleCount()}, {"lod1", b.lod1.triangleCount()}}}};
+        if (!b.towerFootprint.empty()) {
+            one["tower_footprint"] = points(b.towerFootprint);
+            one["tower_floors"] = b.floors - b.baseFloors;
+        }
+        buildings.push_back(std::move(one));
+    }
+    j["buildings"] = std::move(buildings);
+    return j.dump(1) + "\n";
+}
+
+Scene takeCityScene(City& city) {
+    Scene scene;
+    for (CityTile& tile : city.tiles) {
+        const auto tileNode = static_cast<std::uint32_t>(scene.nodes.size());
+        Node node;
+        node.name = format("tile_{}_{}", tile.index.x, tile.index.y);
+        scene.nodes.push_back(node);
+        scene.roots.push_back(tileNode);
+        auto addChild = [&](std::uint32_t parent, Node child) {
+            const auto index = static_cast<std::uint32_t>(scene.nodes.size());
+            scene.nodes.push_back(std::move(child));
+            scene.nodes[parent].children.push_back(index);
+            return index;
+        };
+        auto meshNode = [&](Mesh mesh) {
+            Node n;
+            n.name = mesh.name;
+            n.mesh = static_cast<std::int32_t>(scene.meshes.size());
+            scene.meshes.push_back(std::move(mesh));
+            return n;
+        };
+        if (!tile.ground.positions.empty()) addChild(tileNode, meshNode(std::move(tile.ground)));
+        for (int index : tile.buildings) {
+            Building& b = city.buildings[static_cast<std::size_t>(index)];
+            Node bn;
+            bn.name = buildingName(b.id);
+            bn.extrasJson = format(R"({{"lot":{},"floors":{},"roof":"{}","rooms":{}}})", b.lot, b.floors, roofTypeName(b.roof),
+                                   b.rooms.size());
+            const std::uint32_t buildingNode = addChild(tileNode, bn);
+            b.lod0.name = buildingName(b.id) + "_lod0";
+            b.lod1.name = buildingName(b.id) + "_lod1";
+            addChild(buildingNode, meshNode(std::move(b.lod0)));
+            addChild(buildingNode, meshNode(std::move(b.lod1)));
+        }
+    }
+    return scene;
+}
+
+}  // namespace dawnforge::procgen

@@ -1,6 +1,7 @@
 // End-to-end tests of the dawnforge executable, as a user runs it.
 #include "test_support.hpp"
 
+#include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
 
@@ -8,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <map>
 
 using namespace dawnforge;
 using dawnforge::test::RunResult;
@@ -38,7 +40,7 @@ TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
 }
 
 TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
-    for (const char* cmd : {"city", "bake", "render", "view"})
+    for (const char* cmd : {"bake", "render", "view"})
         expectBadInput({cmd, "-o", "x"}, "not built yet");
 }
 
@@ -357,4 +359,92 @@ TEST(CliDemo, BakesTheTowerDestruction) {
     for (const char* preset : {"native", "unreal", "unity"})
         for (const char* suffix : {"_pos.exr", "_rot.exr", "_mesh.glb", "_data.json"})
             EXPECT_TRUE(std::filesystem::exists(dir / "vat" / (std::string("tower_") + preset + suffix))) << preset << suffix;
+}
+
+TEST(CliCity, WritesAValidGlbAndAReportThatAgree) {
+    TempDir dir;
+    const RunResult r = test::runDawnforge({"--quiet", "city", "-o", (dir / "c").string(), "--size", "300x240", "--seed", "4"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("buildings"), std::string::npos);
+    const RunResult v = test::validateGltf(dir / "c" / "city.glb");
+    EXPECT_EQ(v.exitCode, 0) << v.out;
+    const nlohmann::json report = nlohmann::json::parse(test::readText(dir / "c" / "city.json"));
+    EXPECT_EQ(report["seed"], 4);
+    EXPECT_EQ(report["size"][0], 300.0);
+    EXPECT_GT(report["counts"]["buildings"].get<int>(), 5);
+    EXPECT_GT(report["counts"]["rooms"].get<int>(), report["counts"]["buildings"].get<int>());
+    // Every building node of the GLB is in the report, with both LODs.
+    const auto nodes = loadMeshNodes(dir / "c" / "city.glb");
+    std::size_t lod0 = 0;
+    for (const MeshNode& n : nodes) {
+        lod0 += n.name.ends_with("_lod0");
+        for (std::uint8_t id : n.mesh.materialIds) ASSERT_LT(id, 16);
+    }
+    EXPECT_EQ(lod0, report["buildings"].size());
+}
+
+TEST(CliCity, SameBytesOnOneAndTwoThreadsAndATileMatchesTheCity) {
+    TempDir dir;
+    const std::vector<std::string> common{"--quiet", "city", "--size", "300x240", "--tile-size", "150"};
+    auto runWith = [&](const std::string& out, std::vector<std::string> extra) {
+        std::vector<std::string> args = common;
+        args.insert(args.end(), {"-o", (dir / out).string()});
+        args.insert(args.end(), extra.begin(), extra.end());
+        const RunResult r = test::runDawnforge(args);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+    };
+    runWith("one", {"--threads", "1"});
+    runWith("two", {"--threads", "2"});
+    runWith("tile", {"--tile", "1,0"});
+    EXPECT_EQ(test::readBytes(dir / "one" / "city.glb"), test::readBytes(dir / "two" / "city.glb"));
+    EXPECT_EQ(test::readBytes(dir / "one" / "city.json"), test::readBytes(dir / "two" / "city.json"));
+    // The tile's meshes are the whole city's meshes of the same names.
+    std::map<std::string, Mesh> whole;
+    for (MeshNode& n : loadMeshNodes(dir / "one" / "city.glb")) whole[n.name] = std::move(n.mesh);
+    std::size_t compared = 0;
+    for (const MeshNode& n : loadMeshNodes(dir / "tile" / "city.glb")) {
+        ASSERT_TRUE(whole.count(n.name)) << n.name;
+        const Mesh& w = whole[n.name];
+        EXPECT_EQ(n.mesh.positions, w.positions) << n.name;
+        EXPECT_EQ(n.mesh.indices, w.indices) << n.name;
+        EXPECT_EQ(n.mesh.uv1, w.uv1) << n.name;
+        ++compared;
+    }
+    EXPECT_GT(compared, 3u);
+}
+
+TEST(CliCity, RecipesFromTheExamplesWork) {
+    TempDir dir;
+    for (const char* name : {"downtown", "coastal_town"}) {
+        const std::string recipe = test::dataFile("../../examples/recipes/").string() + name + ".json";
+        const RunResult r = test::runDawnforge({"--quiet", "city", "-o", (dir / name).string(), "--size", "260x220", "--recipe", recipe});
+        ASSERT_EQ(r.exitCode, 0) << name << ": " << r.err;
+        const RunResult v = test::validateGltf(dir / name / "city.glb");
+        EXPECT_EQ(v.exitCode, 0) << v.out;
+    }
+    // The two recipes make different towns: downtown is taller.
+    auto meanFloors = [&](const char* name) {
+        const nlohmann::json j = nlohmann::json::parse(test::readText(dir / name / "city.json"));
+        return j["counts"]["floors"].get<double>() / j["counts"]["buildings"].get<double>();
+    };
+    EXPECT_GT(meanFloors("downtown"), 2.0 * meanFloors("coastal_town"));
+}
+
+TEST(CliCity, BadOptionsAndRecipesExit2AndWriteNothing) {
+    TempDir dir;
+    const std::string out = (dir / "out").string();
+    expectBadInput({"city", "-o", out, "--size", "-100x200"}, "--size");
+    expectBadInput({"city", "-o", out, "--size", "banana"}, "--size");
+    expectBadInput({"city", "-o", out, "--size", "0x0"}, "--size");
+    expectBadInput({"city", "-o", out, "--tile", "9,9"}, "--tile");
+    expectBadInput({"city", "-o", out, "--tile", "a,b"}, "--tile");
+    expectBadInput({"city", "-o", out, "--tile-size", "0"}, "--tile-size");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "missing.json").string()}, "missing.json");
+    test::writeText(dir / "unknown.json", R"({"buildings": {"max_flors": 3}})");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "unknown.json").string()}, "buildings.max_flors");
+    test::writeText(dir / "zero.json", R"({"buildings": {"storey_height": 0}})");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "zero.json").string()}, "storey_height");
+    test::writeText(dir / "broken.json", "{ \"streets\": ");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "broken.json").string()}, "broken.json");
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"broken.json", "unknown.json", "zero.json"}));
 }

@@ -1,1 +1,213 @@
+// Buildings: closed walls, reachable rooms, windows that belong to rooms and carry what
+// interior mapping needs, and everything inside the lot.
+#include <dawnforge/core/validate.hpp>
+#include <dawnforge/procgen/building.hpp>
+#include <dawnforge/procgen/materials.hpp>
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <queue>
+#include <set>
+
+namespace dawnforge::procgen {
+namespace {
+
+Lot makeLot(Polygon2 polygon, int front = 0, int id = 7) {
+    Lot lot;
+    lot.id = id;
+    lot.polygon = std::move(polygon);
+    lot.streetEdge.assign(lot.polygon.size(), false);
+    lot.streetEdge[static_cast<std::size_t>(front)] = true;
+    lot.frontEdge = front;
+    return lot;
+}
+
+// Lots of several shapes and sizes: narrow and wide, rectangular and not.
+std::vector<Lot> testLots() {
+    return {
+        makeLot({{0, 0}, {24, 0}, {24, 30}, {0, 30}}),                      // wide: corridor with rooms both sides
+        makeLot({{100, 0}, {111, 0}, {111, 25}, {100, 25}}),               // narrow: rooms on one side
+        makeLot({{200, 0}, {207, 0}, {207, 22}, {200, 22}}),               // very narrow: rooms in a row
+        makeLot({{300, 0}, {330, 4}, {326, 34}, {298, 28}}),               // skewed quad
+        makeLot({{400, 10}, {430, 0}, {445, 20}, {425, 45}, {400, 35}}, 1), // pentagon, front not edge 0
+        makeLot({{500, 0}, {540, 0}, {532, 26}, {508, 26}}),               // trapezoid
+    };
+}
+
+CityRecipe tallRecipe() {
+    CityRecipe r;
+    r.buildings.minFloors = 6;
+    r.buildings.maxFloors = 9;
+    r.buildings.towerChance = 1.0;
+    r.buildings.towerExtraFloors = 6;
+    r.buildings.balconyChance = 1.0;
+    r.lots.setback = 2.0;
+    return r;
+}
+
+std::vector<Building> testBuildings() {
+    std::vector<Building> out;
+    const CityRecipe recipes[2] = {CityRecipe{}, tallRecipe()};
+    for (const CityRecipe& recipe : recipes)
+        for (const Lot& lot : testLots())
+            for (std::uint64_t seed : {1u, 2u, 3u}) {
+                Building b = buildBuilding(lot, recipe, seed);
+                if (b.floors > 0) out.push_back(std::move(b));
+            }
+    return out;
+}
+
+const std::vector<Building>& buildings() {
+    static const std::vector<Building> all = testBuildings();
+    return all;
+}
+
+// The mesh without the one-sided surfaces (glass panes and door leaves), which are sheets.
+Mesh solidsOnly(const Mesh& mesh) {
+    Mesh out;
+    out.positions = mesh.positions;
+    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
+        const std::uint8_t m = mesh.materialIds[mesh.indices[t]];
+        if (m == kGlass || m == kWood) continue;
+        out.indices.insert(out.indices.end(), mesh.indices.begin() + t, mesh.indices.begin() + t + 3);
+    }
+    return out;
+}
+
+TEST(Building, EveryLotShapeGetsABuilding) {
+    const CityRecipe recipe;
+    for (const Lot& lot : testLots()) {
+        const Building b = buildBuilding(lot, recipe, 1);
+        EXPECT_GT(b.floors, 0) << "lot at " << lot.polygon[0].x;
+        EXPECT_GT(b.lod0.triangleCount(), b.lod1.triangleCount());
+        EXPECT_GT(b.height, recipe.buildings.groundStoreyHeight);
+    }
+    // The tall recipe builds towers where the footprint allows.
+    int towers = 0;
+    for (const Building& b : buildings()) towers += b.towerFootprint.empty() ? 0 : 1;
+    EXPECT_GT(towers, 0);
+}
+
+TEST(Building, WallsSlabsStairsAndRoofsAreClosed) {
+    for (const Building& b : buildings()) {
+        validateMeshData(b.lod0, "lod0");
+        validateMeshData(b.lod1, "lod1");
+        const MeshReport r0 = inspectMesh(solidsOnly(b.lod0));
+        EXPECT_EQ(r0.boundaryEdges, 0u) << "building on lot " << b.lot << " floors " << b.floors;
+        if (r0.boundaryEdges && !r0.openEdges.empty())
+            ADD_FAILURE() << "open edge at " << r0.openEdges[0].first.x << "," << r0.openEdges[0].first.y << ","
+                          << r0.openEdges[0].first.z;
+        // LOD1 is a closed shell with its glass and doors in it.
+        Mesh shell = b.lod1;
+        const MeshReport r1 = inspectMesh(shell);
+        EXPECT_EQ(r1.boundaryEdges, 0u) << "LOD1 of building on lot " << b.lot;
+        EXPECT_EQ(r1.degenerateTriangles, 0u);
+    }
+}
+
+TEST(Building, EveryRoomIsReachableFromTheEntrance) {
+    for (const Building& b : buildings()) {
+        std::vector<std::vector<int>> next(b.rooms.size());
+        std::queue<int> open;
+        std::vector<bool> seen(b.rooms.size(), false);
+        int entrances = 0;
+        for (const Door& d : b.doors) {
+            ASSERT_GE(d.from, 0);
+            ASSERT_LT(d.from, static_cast<int>(b.rooms.size()));
+            if (d.to < 0) {
+                ++entrances;
+                EXPECT_EQ(b.rooms[d.from].floor, 0);
+                if (!seen[d.from]) seen[d.from] = true, open.push(d.from);
+                continue;
+            }
+            ASSERT_LT(d.to, static_cast<int>(b.rooms.size()));
+            EXPECT_EQ(d.stairs, b.rooms[d.from].floor != b.rooms[d.to].floor);
+            next[d.from].push_back(d.to);
+            next[d.to].push_back(d.from);
+        }
+        EXPECT_EQ(entrances, 1) << "lot " << b.lot;
+        while (!open.empty()) {
+            const int r = open.front();
+            open.pop();
+            for (int n : next[r])
+                if (!seen[n]) seen[n] = true, open.push(n);
+        }
+        for (const Room& room : b.rooms)
+            EXPECT_TRUE(seen[room.id]) << "lot " << b.lot << ": room " << room.id << " (" << roomKindName(room.kind)
+                                       << ") on floor " << room.floor << " is not reachable";
+        // Rooms per floor add up, and every floor above the ground has stairs.
+        int sum = 0;
+        for (int n : b.roomsPerFloor) sum += n;
+        EXPECT_EQ(sum, static_cast<int>(b.rooms.size()));
+        EXPECT_EQ(static_cast<int>(b.roomsPerFloor.size()), b.floors);
+    }
+}
+
+TEST(Building, EveryWindowBelongsToARoomBehindIt) {
+    for (const Building& b : buildings()) {
+        EXPECT_FALSE(b.windows.empty());
+        for (const Window& w : b.windows) {
+            ASSERT_GE(w.room, 0);
+            ASSERT_LT(w.room, static_cast<int>(b.rooms.size()));
+            const Room& room = b.rooms[w.room];
+            EXPECT_EQ(room.floor, w.floor);
+            EXPECT_TRUE(containsPoint(room.polygon, w.centre + w.inward * 0.05))
+                << "lot " << b.lot << " window at " << w.centre.x << "," << w.centre.y;
+            // The room depth is where a ray from the window leaves the room.
+            EXPECT_GT(w.roomDepth, 0.5);
+            EXPECT_FALSE(containsPoint(room.polygon, w.centre + w.inward * (w.roomDepth + 0.01)));
+            EXPECT_TRUE(containsPoint(room.polygon, w.centre + w.inward * (w.roomDepth - 0.01)));
+        }
+    }
+}
+
+TEST(Building, GlassCarriesRoomDepthIndexAndSize) {
+    for (const Building& b : buildings()) {
+        for (const Mesh* mesh : {&b.lod0, &b.lod1}) {
+            ASSERT_EQ(mesh->uv1.size(), mesh->positions.size());
+            ASSERT_EQ(mesh->uv2.size(), mesh->positions.size());
+            std::size_t glass = 0;
+            std::set<int> roomsSeen;
+            for (std::size_t v = 0; v < mesh->positions.size(); ++v) {
+                if (mesh->materialIds[v] != kGlass) continue;
+                ++glass;
+                const glm::vec2 depthIndex = mesh->uv1[v], size = mesh->uv2[v];
+                EXPECT_GT(depthIndex.x, 0.5f);
+                EXPECT_EQ(depthIndex.y, std::floor(depthIndex.y));
+                ASSERT_LT(depthIndex.y, static_cast<float>(b.rooms.size()));
+                roomsSeen.insert(static_cast<int>(depthIndex.y));
+                EXPECT_GT(size.x, 0.5f);
+                EXPECT_GT(size.y, 1.5f);
+                // The pane lies on the room's front face.
+                EXPECT_GE(mesh->uv0[v].x, -1e-3f);
+                EXPECT_LE(mesh->uv0[v].x, size.x + 1e-3f);
+                EXPECT_GE(mesh->uv0[v].y, -1e-3f);
+                EXPECT_LE(mesh->uv0[v].y, size.y + 1e-3f);
+            }
+            EXPECT_GT(glass, 0u);
+            EXPECT_GT(roomsSeen.size(), 1u);
+        }
+    }
+}
+
+TEST(Building, StaysInsideItsLotAndIsDeterministic) {
+    const CityRecipe recipes[2] = {CityRecipe{}, tallRecipe()};
+    for (const CityRecipe& recipe : recipes)
+        for (const Lot& lot : testLots()) {
+            const Building a = buildBuilding(lot, recipe, 5), b = buildBuilding(lot, recipe, 5);
+            EXPECT_EQ(a.lod0.positions, b.lod0.positions);
+            EXPECT_EQ(a.lod0.indices, b.lod0.indices);
+            EXPECT_EQ(a.lod1.uv1, b.lod1.uv1);
+            for (const glm::vec3& p : a.lod0.positions) {
+                const glm::dvec2 plan{p.x, -p.z};
+                EXPECT_TRUE(containsPoint(lot.polygon, plan) || distanceToBoundary(lot.polygon, plan) < 1e-3)
+                    << "vertex " << plan.x << "," << plan.y << " outside lot " << lot.polygon[0].x;
+                EXPECT_GE(p.y, 0.0f);
+            }
+            for (std::uint8_t m : a.lod0.materialIds) EXPECT_LT(m, 16);
+        }
+}
+
+}  // namespace
+}  // namespace dawnforge::procgen

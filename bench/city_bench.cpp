@@ -1,0 +1,66 @@
+// City figures (issue: procedural city blocks with buildings and interiors). Fixed input:
+// the default recipe, seed 1, a 1000 x 1000 m district (1 km^2) with interiors.
+//   build/bin/city_bench                       (plan, generation, GLB encoding, whole command)
+// Peak memory of the whole command: /usr/bin/time -v build/bin/dawnforge city -o out --size 1000x1000
+#include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/procgen/city.hpp>
+
+#include <benchmark/benchmark.h>
+
+namespace {
+
+using namespace dawnforge;
+using namespace dawnforge::procgen;
+
+CitySettings district() {
+    CitySettings s;
+    s.size = {1000.0, 1000.0};
+    s.seed = 1;
+    return s;
+}
+
+void countCity(benchmark::State& state, const City& city) {
+    std::size_t rooms = 0, tri0 = 0, tri1 = 0;
+    for (const Building& b : city.buildings) {
+        rooms += b.rooms.size();
+        tri0 += b.lod0.triangleCount();
+        tri1 += b.lod1.triangleCount();
+    }
+    state.counters["buildings"] = static_cast<double>(city.buildings.size());
+    state.counters["rooms"] = static_cast<double>(rooms);
+    state.counters["tris_lod0"] = static_cast<double>(tri0);
+    state.counters["tris_lod1"] = static_cast<double>(tri1);
+}
+
+void BM_Plan1km(benchmark::State& state) {
+    const CitySettings s = district();
+    for (auto _ : state) {
+        const CityPlan plan = planCity(s.recipe, s.seed, s.size);
+        state.counters["blocks"] = static_cast<double>(plan.blocks.size());
+        state.counters["lots"] = static_cast<double>(plan.lots.size());
+    }
+}
+BENCHMARK(BM_Plan1km)->Unit(benchmark::kMillisecond);
+
+void BM_Generate1km(benchmark::State& state) {
+    for (auto _ : state) {
+        const City city = generateCity(district());
+        countCity(state, city);
+    }
+}
+BENCHMARK(BM_Generate1km)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+// What `dawnforge city` does after generation: report, scene, GLB bytes in memory.
+void BM_GenerateAndEncode1km(benchmark::State& state) {
+    for (auto _ : state) {
+        City city = generateCity(district());
+        countCity(state, city);
+        const std::string report = cityReportJson(city);
+        const std::vector<std::byte> glb = encodeGlb(takeCityScene(city));
+        state.counters["glb_MB"] = static_cast<double>(glb.size()) / 1e6;
+        benchmark::DoNotOptimize(report.data());
+    }
+}
+BENCHMARK(BM_GenerateAndEncode1km)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+}  // namespace

@@ -1,0 +1,64 @@
+#pragma once
+// A whole district, or one tile of it: the plan (streets, blocks, lots), the ground, the
+// buildings, and what `dawnforge city` writes (city.glb, city.json).
+//
+// Tiles: tile (i, j) covers plan x in [i*M, (i+1)*M) and y in [j*M, (j+1)*M) for tile size
+// M. A building belongs to the tile holding its lot's centroid, a block's kerb to the tile
+// holding its centroid, a ground cell to the tile holding its centre. The plan is the whole
+// city's whatever is generated, and every entity's randomness comes from its own sub-seed,
+// so a tile generated alone is identical to the same tile of the whole city.
+#include <dawnforge/core/mesh.hpp>
+#include <dawnforge/core/progress.hpp>
+#include <dawnforge/core/scene.hpp>
+#include <dawnforge/procgen/building.hpp>
+#include <dawnforge/procgen/plan.hpp>
+#include <dawnforge/procgen/recipe.hpp>
+
+#include <glm/vec2.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dawnforge::procgen {
+
+struct CitySettings {
+    CityRecipe recipe;
+    std::uint64_t seed = 1;
+    glm::dvec2 size{500.0, 500.0};       // metres, x by y
+    double tileSize = 250.0;
+    std::optional<glm::ivec2> tile;      // generate this tile only
+};
+
+struct CityTile {
+    glm::ivec2 index{0};
+    Mesh ground;                 // terrain cells (streets are the ground between blocks) and block kerbs
+    std::vector<int> buildings;  // indices into City::buildings
+    std::vector<int> blocks;     // ids of the blocks whose kerb is in this tile
+};
+
+struct City {
+    CitySettings settings;
+    CityPlan plan;
+    std::vector<Building> buildings;  // of the generated tiles, in lot order (only lots that hold one)
+    std::vector<CityTile> tiles;      // the generated tiles, row by row
+};
+
+// The number of tiles along x and y.
+glm::ivec2 tileCount(const CitySettings& settings);
+// The tile holding plan point p (clamped to the city).
+glm::ivec2 tileOf(const CitySettings& settings, glm::dvec2 p);
+
+// Throws InputError for a bad size, tile size or tile index, or a bad recipe.
+City generateCity(const CitySettings& settings, const ProgressFn& progress = {});
+
+// city.json: seed, size, tiles, recipe, counts, coastline, streets, blocks, lots and buildings.
+std::string cityReportJson(const City& city);
+
+// The glTF scene: one root node per tile ("tile_I_J") holding its ground ("ground_I_J") and
+// one node per building ("building_NNNNN") whose children show its LOD0 and LOD1 meshes
+// ("building_NNNNN_lod0", "..._lod1"). Moves the meshes out of `city`.
+Scene takeCityScene(City& city);
+
+}  // namespace dawnforge::procgen
