@@ -67,7 +67,7 @@ public:
         view.byteOffset = size_;
         view.byteLength = bytes;
         view.target = target;
-        writers_.push_back({size_, std::move(writer)});
+        writers_.push_back({size_, bytes, std::move(writer)});
         size_ += bytes;
         model_.bufferViews.push_back(view);
 
@@ -107,15 +107,31 @@ public:
     }
 
     std::size_t size() const { return (size_ + 3) & ~std::size_t(3); }
-    // Writes every view at its offset into `out` (size() bytes, zeroed).
-    void fill(unsigned char* out) const {
-        for (const auto& [offset, writer] : writers_) writer(out + offset);
+    // Hands the whole buffer to `sink(data, bytes)` view by view, with the zero padding
+    // between views; one view at a time is held in memory.
+    template <typename Sink>
+    void emit(Sink&& sink) const {
+        static const unsigned char kZeros[4] = {0, 0, 0, 0};
+        std::vector<unsigned char> chunk;
+        std::size_t at = 0;
+        for (const View& view : writers_) {
+            sink(kZeros, view.offset - at);
+            chunk.resize(view.bytes);
+            view.writer(chunk.data());
+            sink(chunk.data(), view.bytes);
+            at = view.offset + view.bytes;
+        }
+        sink(kZeros, size() - at);
     }
 
 private:
     tinygltf::Model& model_;
     std::size_t size_ = 0;
-    std::vector<std::pair<std::size_t, Writer>> writers_;
+    struct View {
+        std::size_t offset, bytes;
+        Writer writer;
+    };
+    std::vector<View> writers_;
 };
 
 tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material) {
@@ -191,8 +207,26 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
 
 }  // namespace
 
-std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& settings) {
-    tinygltf::Model model;
+namespace {
+
+// A scene laid out as GLB: the JSON chunk in memory, the binary chunk produced view by view
+// from the scene's meshes when written (the scene must outlive it).
+class GlbLayout {
+public:
+    GlbLayout(const Scene& scene, const GltfSettings& settings);
+    std::size_t size() const { return 12 + 8 + json_.size() + (buffers_.size() > 0 ? 8 + buffers_.size() : 0); }
+    template <typename Sink>
+    void emit(Sink&& sink) const;
+
+private:
+    tinygltf::Model model_;
+    BufferBuilder buffers_{model_};
+    std::string json_;
+};
+
+GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
+    tinygltf::Model& model = model_;
+    BufferBuilder& buffers = buffers_;
     model.asset.version = "2.0";
     model.asset.generator = settings.generator;
 
@@ -205,7 +239,6 @@ std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& setting
     material.doubleSided = false;
     model.materials.push_back(material);
 
-    BufferBuilder buffers(model);
     for (const Mesh& mesh : scene.meshes) model.meshes.push_back(encodeMesh(mesh, buffers, 0));
 
     for (const Node& node : scene.nodes) {
@@ -241,32 +274,51 @@ std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& setting
         json["buffers"] = nlohmann::ordered_json::array({{{"byteLength", buffers.size()}}});
     else
         json.erase("buffers");
-    std::string text = json.dump();
-    while (text.size() % 4) text.push_back(' ');
-    const std::size_t binBytes = buffers.size();
-    const std::size_t total = 12 + 8 + text.size() + (binBytes > 0 ? 8 + binBytes : 0);
-    DAWNFORGE_ASSERT(total <= 0xffffffffu, "the scene is larger than a GLB can hold (4 GiB)");
-    std::vector<std::byte> out(total, std::byte{0});
-    auto* p = reinterpret_cast<unsigned char*>(out.data());
-    auto put32 = [&](std::size_t at, std::uint32_t v) {
-        for (int i = 0; i < 4; ++i) p[at + i] = static_cast<unsigned char>(v >> (8 * i));
+    json_ = json.dump();
+    while (json_.size() % 4) json_.push_back(' ');
+    DAWNFORGE_ASSERT(size() <= 0xffffffffu, "the scene is larger than a GLB can hold (4 GiB)");
+}
+
+template <typename Sink>
+void GlbLayout::emit(Sink&& sink) const {
+    unsigned char word[4];
+    auto put32 = [&](std::uint32_t v) {
+        for (int i = 0; i < 4; ++i) word[i] = static_cast<unsigned char>(v >> (8 * i));
+        sink(word, 4);
     };
-    put32(0, 0x46546C67u);  // "glTF"
-    put32(4, 2);
-    put32(8, static_cast<std::uint32_t>(total));
-    put32(12, static_cast<std::uint32_t>(text.size()));
-    put32(16, 0x4E4F534Au);  // "JSON"
-    std::memcpy(p + 20, text.data(), text.size());
-    const std::size_t bin = 20 + text.size();
-    if (binBytes == 0) return out;
-    put32(bin, static_cast<std::uint32_t>(binBytes));
-    put32(bin + 4, 0x004E4942u);  // "BIN\0"
-    buffers.fill(p + bin + 8);
+    put32(0x46546C67u);  // "glTF"
+    put32(2);
+    put32(static_cast<std::uint32_t>(size()));
+    put32(static_cast<std::uint32_t>(json_.size()));
+    put32(0x4E4F534Au);  // "JSON"
+    sink(reinterpret_cast<const unsigned char*>(json_.data()), json_.size());
+    if (buffers_.size() == 0) return;
+    put32(static_cast<std::uint32_t>(buffers_.size()));
+    put32(0x004E4942u);  // "BIN\0"
+    buffers_.emit(sink);
+}
+
+}  // namespace
+
+std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& settings) {
+    const GlbLayout glb(scene, settings);
+    std::vector<std::byte> out;
+    out.reserve(glb.size());
+    glb.emit([&](const unsigned char* data, std::size_t n) {
+        const auto* b = reinterpret_cast<const std::byte*>(data);
+        out.insert(out.end(), b, b + n);
+    });
     return out;
 }
 
 void writeGlb(const Scene& scene, const std::filesystem::path& file, const GltfSettings& settings) {
-    writeFileAtomically(file, encodeGlb(scene, settings));
+    // Streamed to the file: a city's GLB is never held in memory whole.
+    const GlbLayout glb(scene, settings);
+    AtomicFile out(file);
+    glb.emit([&](const unsigned char* data, std::size_t n) {
+        out.stream().write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(n));
+    });
+    out.commit();
 }
 
 }  // namespace dawnforge

@@ -49,6 +49,20 @@ TEST(Gltf, SameSceneSameBytes) {
     EXPECT_EQ(encodeGlb(fullScene()), encodeGlb(fullScene()));
 }
 
+TEST(Gltf, StreamedFileIsTheEncodedBytes) {
+    // writeGlb streams the binary chunk view by view; encodeGlb assembles it in memory.
+    TempDir dir;
+    writeGlb(fullScene(), dir / "full.glb");
+    const std::vector<std::byte> encoded = encodeGlb(fullScene());
+    const std::vector<unsigned char> written = test::readBytes(dir / "full.glb");
+    ASSERT_EQ(written.size(), encoded.size());
+    EXPECT_EQ(std::memcmp(written.data(), encoded.data(), written.size()), 0);
+    std::uint32_t total = 0;
+    std::memcpy(&total, encoded.data() + 8, 4);
+    EXPECT_EQ(total, encoded.size());
+    EXPECT_EQ(encoded.size() % 4, 0u);
+}
+
 TEST(Gltf, WrittenFilePassesTheKhronosValidator) {
     TempDir dir;
     writeGlb(fullScene(), dir / "full.glb");
