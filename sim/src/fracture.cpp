@@ -322,7 +322,7 @@ struct Hierarchy {
     std::vector<SM>& results;
     const ProgressFn& progress;
     std::atomic<std::size_t> done{0};
-    std::mutex progressMutex;
+    std::mutex progressMutex{};
     std::atomic<bool> cancelled{false};
 
     void cellDone() {
