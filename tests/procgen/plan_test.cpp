@@ -7,7 +7,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -306,14 +305,5 @@ TEST(Plan, RejectsABadSize) {
 }
 
 // Timing and counts for a 1 km city (run with --gtest_also_run_disabled_tests).
-TEST(Plan, DISABLED_Timing1km) {
-    const CityRecipe recipe;
-    const auto start = std::chrono::steady_clock::now();
-    const CityPlan plan = planCity(recipe, 1, {1000.0, 1000.0});
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("1000 x 1000 m: %.3f s, %zu streets, %zu blocks, %zu lots\n", seconds, plan.streets.size(),
-                plan.blocks.size(), plan.lots.size());
-}
-
 }  // namespace
 }  // namespace dawnforge::procgen
