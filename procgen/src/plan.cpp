@@ -153,7 +153,8 @@ void addClippedStreets(const Land& land, const std::vector<std::pair<glm::dvec2,
             flush();
             continue;
         }
-        const auto [a, b] = chain[k];
+        // Plain variables, not a structured binding: lambdas may not capture those before clang 16.
+        const glm::dvec2 a = chain[k].first, b = chain[k].second;
         const auto at = [&](double t) { return t == 0.0 ? a : t == 1.0 ? b : a + (b - a) * t; };
         for (const auto& [ta, tb] : land.intervals(a, b)) {
             const glm::dvec2 pa = at(ta);
