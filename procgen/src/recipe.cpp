@@ -204,8 +204,10 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
                 suggestion = pathOf(f);
                 break;
             }
-    if (suggestion.empty()) throw InputError(format("{}: unknown key \"{}\"", source, path));
-    throw InputError(format("{}: unknown key \"{}\" (did you mean \"{}\"?)", source, path, suggestion));
+    // The key as JSON writes it: control characters and broken UTF-8 cannot split the line.
+    const std::string quoted = Json(path).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (suggestion.empty()) throw InputError(format("{}: unknown key {}", source, quoted));
+    throw InputError(format("{}: unknown key {} (did you mean \"{}\"?)", source, quoted, suggestion));
 }
 
 void checkRange(const Field& f, double v, std::string_view source) {
@@ -265,7 +267,11 @@ CityRecipe parseRecipe(std::string_view json, std::string_view source) {
         throw InputError(format("{}: a recipe must be a JSON object ({{\"buildings\": {{...}}, ...}})", source));
 
     CityRecipe recipe;
-    for (const auto& [name, section] : root.items()) {
+    // Items by key() and value(), not structured bindings: lambdas may not capture those
+    // before clang 16.
+    for (const auto& item : root.items()) {
+        const std::string& name = item.key();
+        const Json& section = item.value();
         if (name == kDescription) {
             if (!section.is_string()) throw InputError(format("{}: description must be a string", source));
             continue;
@@ -275,7 +281,9 @@ CityRecipe parseRecipe(std::string_view json, std::string_view source) {
             unknownKey(source, name, name);
         if (!section.is_object())
             throw InputError(format("{}: {} must be an object of parameters ({{\"key\": value, ...}})", source, name));
-        for (const auto& [key, value] : section.items()) {
+        for (const auto& entry : section.items()) {
+            const std::string& key = entry.key();
+            const Json& value = entry.value();
             const auto field = std::find_if(kFields.begin(), kFields.end(), [&](const Field& f) {
                 return name == f.section && key == keyOf(f);
             });
