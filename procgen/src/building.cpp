@@ -45,7 +45,8 @@ constexpr double kStairWidth = 1.1;
 constexpr double kGlassRecess = 0.08; // glass sits this far behind the outer face
 constexpr double kBandHeight = 0.25;  // floor band and cornice
 constexpr double kMinEdge = 1.5;
-constexpr double kMaxShedRise = 3.0;  // metres from the low to the high side of a shed roof      // footprints lose vertices until every edge is this long
+constexpr double kMaxShedRise = 3.0;
+constexpr double kMinInnerWidth = 2.4;  // metres inside the walls, along and across the footprint's first edge  // metres from the low to the high side of a shed roof      // footprints lose vertices until every edge is this long
 
 double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 
@@ -811,6 +812,9 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint)) return b;
     const Polygon2 inner = mitreOffset(footprint, br.wallThickness);
     if (!isConvex(inner) || signedArea(inner) < 4.0) return b;
+    // No slivers: a building is at least kMinInnerWidth wide inside its walls both ways.
+    const PolygonFrame extent = edgeFrame(inner, 0);
+    if (extent.uMax - extent.uMin < kMinInnerWidth || extent.vMax - extent.vMin < kMinInnerWidth) return b;
 
     // The footprint edge facing the lot's front street: parallel to it and nearest.
     const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
@@ -843,8 +847,16 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     while (roofIndex < 3 && pickW >= weights[roofIndex]) pickW -= weights[roofIndex++];
 
     std::optional<FloorLayout> layout = planLayout(ctx, inner, floors + towerFloors, rng);
+    // Too shallow behind the street for a flight of stairs: lay the floors out from a side
+    // edge instead (the entrance then opens on that side); failing that, one storey.
+    for (std::size_t side : {(frontEdge + 1) % footprint.size(), (frontEdge + footprint.size() - 1) % footprint.size()}) {
+        if (layout) break;
+        ctx.frame = edgeFrame(footprint, side);
+        layout = planLayout(ctx, inner, floors + towerFloors, rng);
+    }
     if (!layout) {
         floors = 1, towerFloors = 0;
+        ctx.frame = edgeFrame(footprint, frontEdge);
         layout = planLayout(ctx, inner, 1, rng);
     }
     ctx.layout = *layout;

@@ -28,7 +28,7 @@ std::vector<Lot> testLots() {
     return {
         makeLot({{0, 0}, {24, 0}, {24, 30}, {0, 30}}),                      // wide: corridor with rooms both sides
         makeLot({{100, 0}, {111, 0}, {111, 25}, {100, 25}}),               // narrow: rooms on one side
-        makeLot({{200, 0}, {207, 0}, {207, 22}, {200, 22}}),               // very narrow: rooms in a row
+        makeLot({{200, 0}, {208.5, 0}, {208.5, 22}, {200, 22}}),           // very narrow: rooms in a row
         makeLot({{300, 0}, {330, 4}, {326, 34}, {298, 28}}),               // skewed quad
         makeLot({{400, 10}, {430, 0}, {445, 20}, {425, 45}, {400, 35}}, 1), // pentagon, front not edge 0
         makeLot({{500, 0}, {540, 0}, {532, 26}, {508, 26}}),               // trapezoid
