@@ -498,9 +498,8 @@ void appendBand(MeshBuilder& mb, std::span<const glm::dvec2> poly, double depth,
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t j = (i + 1) % n;
         const WallLine w = WallLine::between(outer[i], outer[j], poly[i], poly[j], depth);
-        const Opening none[1] = {};
         const double levels[2] = {y0, y1};
-        appendWall(mb, w, std::span<const Opening>(none, 0), levels, false, {kTrim, kTrim, kTrim, kTrim});
+        appendWall(mb, w, {}, levels, false, {kTrim, kTrim, kTrim, kTrim});
     }
 }
 
@@ -511,7 +510,7 @@ struct BuildingStyle {
 
 // Everything of one section's storeys: exterior rings with openings, interiors, LOD1 facade.
 void buildSection(const BuildContext& ctx, const Section& sec, const BuildingStyle& style, bool isTop, Building& b,
-                  MeshBuilder& lod0, MeshBuilder& lod1, int& entranceRoom) {
+                  MeshBuilder& lod0, MeshBuilder& lod1) {
     const BuildingRecipe& br = ctx.recipe.buildings;
     const InteriorRecipe& ir = ctx.recipe.interiors;
     const std::size_t n = sec.footprint.size();
@@ -603,7 +602,6 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
                     door.kind = Opening::Door;
                     openings[e].push_back(door);
                     b.doors.push_back({roomId, -1, false, o + dir * (0.5 * (lo + hi))});
-                    entranceRoom = roomId;
                     continue;
                 }
                 if (isFront && style.shop && piece.kind == RoomKind::Room) {
@@ -731,9 +729,9 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
         }
     }
 
-    // LOD1: the facade shell of the section, one closed prism; every storey uses the union of
-    // all storeys' columns on its edge, so storeys meet vertex to vertex.
-    // Every edge of a storey uses the rows of all its openings, so corners meet vertex to vertex.
+    // LOD1: the facade shell of the section, one closed prism. Every storey uses the union of
+    // all storeys' opening edges on its wall as columns, and every wall of a storey uses the rows
+    // of all that storey's openings, so storeys and corners meet vertex to vertex.
     std::vector<std::vector<double>> storeyLevels;
     for (int storey = 0; storey < sec.floorCount; ++storey) {
         std::vector<std::vector<Opening>> all;
@@ -741,14 +739,20 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
         const int floor = sec.firstFloor + storey;
         storeyLevels.push_back(levelsOf(ctx.floorY[floor], ctx.floorY[floor + 1], all));
     }
+    std::vector<std::vector<double>> edgeColumns(n);  // opening edges along each wall, sorted
     for (std::size_t e = 0; e < n; ++e) {
-        const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
-        const glm::dvec2 dir = glm::normalize(c - a);
-        std::vector<double> cols{0.0, glm::distance(a, c)};
+        std::vector<double>& cols = edgeColumns[e];
         for (const auto& [floor, ops] : lod1PerStorey[e])
             for (const Opening& op : ops) cols.insert(cols.end(), {op.s0, op.s1});
         std::sort(cols.begin(), cols.end());
         cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    }
+    for (std::size_t e = 0; e < n; ++e) {
+        const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
+        const glm::dvec2 dir = glm::normalize(c - a);
+        std::vector<double> cols{0.0};
+        cols.insert(cols.end(), edgeColumns[e].begin(), edgeColumns[e].end());
+        cols.push_back(glm::distance(a, c));
         auto point = [&](std::size_t k) { return k == 0 ? a : k + 1 == cols.size() ? c : a + dir * cols[k]; };
         const glm::dvec3 out = MeshBuilder::outward(dir);
         const MeshBuilder::Uv uv{MeshBuilder::Uv::Wall, dir, run[e] - glm::dot(a, dir)};
@@ -777,13 +781,8 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
         for (std::size_t e = 0; e < n; ++e) {
             const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
             const glm::dvec2 dir = glm::normalize(c - a);
-            std::vector<double> cols;
-            for (const auto& [floor, ops] : lod1PerStorey[e])
-                for (const Opening& op : ops) cols.insert(cols.end(), {op.s0, op.s1});
-            std::sort(cols.begin(), cols.end());
-            cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
             ring.push_back(a);
-            for (double s : cols) ring.push_back(a + dir * s);
+            for (double s : edgeColumns[e]) ring.push_back(a + dir * s);
         }
         const glm::dvec2 mid = centroid(sec.footprint);
         for (std::size_t i = 0; i < ring.size(); ++i) {
@@ -892,9 +891,8 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     Mesh& m0 = b.lod0;
     Mesh& m1 = b.lod1;
     MeshBuilder lod0(m0), lod1(m1);
-    int entranceRoom = -1;
     Section base{footprint, inner, 0, floors, 0.0, ctx.floorY[floors]};
-    buildSection(ctx, base, style, towerFloors == 0, b, lod0, lod1, entranceRoom);
+    buildSection(ctx, base, style, towerFloors == 0, b, lod0, lod1);
     if (towerFloors > 0) {
         Section tower{towerFootprint, towerInner, floors, towerFloors, ctx.floorY[floors], ctx.floorY[b.floors]};
         // The base's roof: a flat terrace under the tower.
@@ -907,7 +905,7 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
         const Roof terraceRoof = buildRoof(footprint, ctx.floorY[floors], terrace);
         appendMesh(m0, terraceRoof.mesh);
         appendMesh(m1, terraceRoof.mesh);
-        buildSection(ctx, tower, style, true, b, lod0, lod1, entranceRoom);
+        buildSection(ctx, tower, style, true, b, lod0, lod1);
     }
     // The roof over the top section.
     const Polygon2& top = towerFloors > 0 ? towerFootprint : footprint;
@@ -943,7 +941,6 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
                 break;
             }
     }
-    (void)entranceRoom;
     return b;
 }
 
