@@ -19,17 +19,12 @@ CitySettings district() {
     return s;
 }
 
-void countCity(benchmark::State& state, const City& city) {
-    std::size_t rooms = 0, tri0 = 0, tri1 = 0;
-    for (const Building& b : city.buildings) {
-        rooms += b.rooms.size();
-        tri0 += b.lod0.triangleCount();
-        tri1 += b.lod1.triangleCount();
-    }
-    state.counters["buildings"] = static_cast<double>(city.buildings.size());
-    state.counters["rooms"] = static_cast<double>(rooms);
-    state.counters["tris_lod0"] = static_cast<double>(tri0);
-    state.counters["tris_lod1"] = static_cast<double>(tri1);
+void recordCounts(benchmark::State& state, const City& city) {
+    const CityCounts counts = countCity(city);
+    state.counters["buildings"] = static_cast<double>(counts.buildings);
+    state.counters["rooms"] = static_cast<double>(counts.rooms);
+    state.counters["tris_lod0"] = static_cast<double>(counts.trianglesLod0);
+    state.counters["tris_lod1"] = static_cast<double>(counts.trianglesLod1);
 }
 
 void BM_Plan1km(benchmark::State& state) {
@@ -45,7 +40,7 @@ BENCHMARK(BM_Plan1km)->Unit(benchmark::kMillisecond);
 void BM_Generate1km(benchmark::State& state) {
     for (auto _ : state) {
         const City city = generateCity(district());
-        countCity(state, city);
+        recordCounts(state, city);
     }
 }
 BENCHMARK(BM_Generate1km)->Unit(benchmark::kMillisecond)->Iterations(2);
@@ -54,7 +49,7 @@ BENCHMARK(BM_Generate1km)->Unit(benchmark::kMillisecond)->Iterations(2);
 void BM_GenerateAndEncode1km(benchmark::State& state) {
     for (auto _ : state) {
         City city = generateCity(district());
-        countCity(state, city);
+        recordCounts(state, city);
         const std::string report = cityReportJson(city);
         const std::vector<std::byte> glb = encodeGlb(takeCityScene(city));
         state.counters["glb_MB"] = static_cast<double>(glb.size()) / 1e6;

@@ -64,13 +64,8 @@ void writeCityFolder(const procgen::CitySettings& settings, const std::filesyste
         city = procgen::generateCity(settings, progress.callback());
     }
     const std::string report = procgen::cityReportJson(city);
-    std::size_t rooms = 0, tri0 = 0, tri1 = 0;
-    for (const procgen::Building& b : city.buildings) {
-        rooms += b.rooms.size();
-        tri0 += b.lod0.triangleCount();
-        tri1 += b.lod1.triangleCount();
-    }
-    const std::size_t buildings = city.buildings.size(), blocks = city.plan.blocks.size();
+    const procgen::CityCounts counts = procgen::countCity(city);
+    const std::size_t blocks = city.plan.blocks.size();
     const Scene scene = procgen::takeCityScene(city);
     ensureOutputDirectory(outputDir);
     writeGlb(scene, outputDir / "city.glb");
@@ -79,9 +74,9 @@ void writeCityFolder(const procgen::CitySettings& settings, const std::filesyste
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("generated %s%.0f x %.0f m, seed %llu: %zu blocks, %zu buildings, %zu rooms in %.2f s\n",
                 settings.tile ? format("tile {},{} of ", settings.tile->x, settings.tile->y).c_str() : "",
-                settings.size.x, settings.size.y, static_cast<unsigned long long>(settings.seed), blocks, buildings,
-                rooms, seconds);
-    std::printf("  triangles: LOD0 %zu, LOD1 %zu\n", tri0, tri1);
+                settings.size.x, settings.size.y, static_cast<unsigned long long>(settings.seed), blocks, counts.buildings,
+                counts.rooms, seconds);
+    std::printf("  triangles: LOD0 %zu, LOD1 %zu\n", counts.trianglesLod0, counts.trianglesLod1);
     std::printf("  wrote %s and %s\n", (outputDir / "city.glb").string().c_str(), (outputDir / "city.json").string().c_str());
 }
 

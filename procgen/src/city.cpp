@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <span>
 
 namespace dawnforge::procgen {
 
@@ -32,15 +33,24 @@ double groundHeight(const CityPlan& plan, const CoastRecipe& coast, glm::dvec2 p
 }
 
 // The ground of one tile: its cells (asphalt on land, sand where any corner is under water)
-// and the kerbs of its blocks (sidewalk prisms).
-Mesh tileGround(const City& city, glm::ivec2 tile, std::vector<int>& blocks) {
+// and the kerbs of `blocks` (sidewalk prisms).
+Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks) {
     const CitySettings& s = city.settings;
     Mesh mesh;
     mesh.name = format("ground_{}_{}", tile.x, tile.y);
     MeshBuilder mb(mesh);
+    // Only the cells near the tile: a cell belongs to the tile holding its centre.
+    const glm::ivec2 count = tileCount(s);
     const int nx = static_cast<int>(std::ceil(s.size.x / kCellSize)), ny = static_cast<int>(std::ceil(s.size.y / kCellSize));
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i) {
+    auto cellRange = [&](int t, int tiles, int cells) {
+        const int lo = t == 0 ? 0 : std::max(0, static_cast<int>(std::floor(t * s.tileSize / kCellSize)) - 1);
+        const int hi = t == tiles - 1 ? cells : std::min(cells, static_cast<int>(std::ceil((t + 1) * s.tileSize / kCellSize)) + 1);
+        return std::make_pair(lo, hi);
+    };
+    const auto [i0, i1] = cellRange(tile.x, count.x, nx);
+    const auto [j0, j1] = cellRange(tile.y, count.y, ny);
+    for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
             const double x0 = i * kCellSize, x1 = std::min(s.size.x, x0 + kCellSize);
             const double y0 = j * kCellSize, y1 = std::min(s.size.y, y0 + kCellSize);
             if (tileOf(s, {0.5 * (x0 + x1), 0.5 * (y0 + y1)}) != tile) continue;
@@ -52,24 +62,13 @@ Mesh tileGround(const City& city, glm::ivec2 tile, std::vector<int>& blocks) {
                 wet = wet || p[k].z < 0.0;
             }
             const std::uint8_t material = wet ? kSand : kAsphalt;
-            // Two triangles split along the diagonal that keeps the surface's shape.
+            // Two triangles, each with its own flat normal (cells slope under the sea).
             const glm::dvec3 a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[2], p[3]};
-            mb.polygon(a, MeshBuilder::up(), material, {});
-            mb.polygon(b, MeshBuilder::up(), material, {});
+            mb.polygon(a, MeshBuilder::faceNormal(a), material, {});
+            mb.polygon(b, MeshBuilder::faceNormal(b), material, {});
         }
-    for (const Block& block : city.plan.blocks) {
-        if (tileOf(s, centroid(block.curb)) != tile) continue;
-        blocks.push_back(block.id);
-        mb.prismAny(block.curb, 0.0, s.recipe.streets.curbHeight, kPaving, kPaving);
-    }
-    // Flat normals of the sloped cells: the builder gave them +Y; recompute per triangle.
-    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
-        const glm::vec3 a = mesh.positions[mesh.indices[t]], b = mesh.positions[mesh.indices[t + 1]],
-                        c = mesh.positions[mesh.indices[t + 2]];
-        const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
-        if (mesh.normals[mesh.indices[t]].y == 1.0f && n.y > 0.0f)
-            for (int k = 0; k < 3; ++k) mesh.normals[mesh.indices[t + k]] = n;
-    }
+    for (int id : blocks)
+        mb.prismAny(city.plan.blocks[static_cast<std::size_t>(id)].curb, 0.0, s.recipe.streets.curbHeight, kPaving, kPaving);
     // uv1/uv2 carry nothing on the ground.
     mesh.uv1.clear();
     mesh.uv2.clear();
@@ -131,11 +130,15 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     for (int j = 0; j < count.y; ++j)
         for (int i = 0; i < count.x; ++i)
             if (!settings.tile || *settings.tile == glm::ivec2(i, j)) city.tiles.push_back({{i, j}, {}, {}, {}});
+    // Where tile t sits in city.tiles (row by row), or -1 when it is not generated.
     auto tileSlot = [&](glm::ivec2 t) -> int {
-        for (std::size_t k = 0; k < city.tiles.size(); ++k)
-            if (city.tiles[k].index == t) return static_cast<int>(k);
-        return -1;
+        if (settings.tile) return t == *settings.tile ? 0 : -1;
+        return t.y * count.x + t.x;
     };
+    for (const Block& block : city.plan.blocks) {
+        const int slot = tileSlot(tileOf(settings, centroid(block.curb)));
+        if (slot >= 0) city.tiles[static_cast<std::size_t>(slot)].blocks.push_back(block.id);
+    }
     // The lots of the generated tiles, in lot order.
     std::vector<const Lot*> lots;
     for (const Lot& lot : city.plan.lots)
@@ -167,6 +170,20 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     return city;
 }
 
+CityCounts countCity(const City& city) {
+    CityCounts c;
+    c.buildings = city.buildings.size();
+    for (const Building& b : city.buildings) {
+        c.floors += static_cast<std::size_t>(b.floors);
+        c.rooms += b.rooms.size();
+        c.windows += b.windows.size();
+        c.trianglesLod0 += b.lod0.triangleCount();
+        c.trianglesLod1 += b.lod1.triangleCount();
+    }
+    for (const CityTile& t : city.tiles) c.trianglesGround += t.ground.triangleCount();
+    return c;
+}
+
 std::string cityReportJson(const City& city) {
     using Json = nlohmann::ordered_json;
     const CitySettings& s = city.settings;
@@ -181,15 +198,7 @@ std::string cityReportJson(const City& city) {
     j["tile"] = s.tile ? Json::array({s.tile->x, s.tile->y}) : Json(nullptr);
     j["recipe"] = Json::parse(recipeJson(s.recipe));
 
-    std::size_t floors = 0, rooms = 0, windows = 0, tri0 = 0, tri1 = 0, triGround = 0;
-    for (const Building& b : city.buildings) {
-        floors += static_cast<std::size_t>(b.floors);
-        rooms += b.rooms.size();
-        windows += b.windows.size();
-        tri0 += b.lod0.triangleCount();
-        tri1 += b.lod1.triangleCount();
-    }
-    for (const CityTile& t : city.tiles) triGround += t.ground.triangleCount();
+    const CityCounts counts = countCity(city);
     std::vector<int> blockIds;
     for (const CityTile& t : city.tiles) blockIds.insert(blockIds.end(), t.blocks.begin(), t.blocks.end());
     std::sort(blockIds.begin(), blockIds.end());
@@ -206,11 +215,12 @@ std::string cityReportJson(const City& city) {
     j["counts"] = {{"streets", streets.size()},
                    {"blocks", blockIds.size()},
                    {"lots", lotCount},
-                   {"buildings", city.buildings.size()},
-                   {"floors", floors},
-                   {"rooms", rooms},
-                   {"windows", windows},
-                   {"triangles", {{"lod0", tri0}, {"lod1", tri1}, {"ground", triGround}}}};
+                   {"buildings", counts.buildings},
+                   {"floors", counts.floors},
+                   {"rooms", counts.rooms},
+                   {"windows", counts.windows},
+                   {"triangles",
+                    {{"lod0", counts.trianglesLod0}, {"lod1", counts.trianglesLod1}, {"ground", counts.trianglesGround}}}};
     j["coastline"] = points(city.plan.coastline);
     j["streets"] = std::move(streets);
     Json blocks = Json::array();

@@ -100,6 +100,10 @@ public:
     }
 
     static glm::dvec3 up() { return {0.0, 1.0, 0.0}; }
+    // The world normal of a counter-clockwise (seen from its front) triangle of plan points with heights.
+    static glm::dvec3 faceNormal(std::span<const glm::dvec3, 3> t) {
+        return glm::normalize(glm::cross(world(t[1]) - world(t[0]), world(t[2]) - world(t[0])));
+    }
     // The world direction of plan direction d's outward normal (right of d), and of a plan direction.
     static glm::dvec3 outward(glm::dvec2 d) { return planDir({d.y, -d.x}); }
     static glm::dvec3 planDir(glm::dvec2 d) { return {d.x, 0.0, -d.y}; }

@@ -53,6 +53,13 @@ glm::ivec2 tileOf(const CitySettings& settings, glm::dvec2 p);
 // Throws InputError for a bad size, tile size or tile index, or a bad recipe.
 City generateCity(const CitySettings& settings, const ProgressFn& progress = {});
 
+// What a generated city holds (city.json's "counts", the CLI's summary, the benchmark).
+struct CityCounts {
+    std::size_t buildings = 0, floors = 0, rooms = 0, windows = 0;
+    std::size_t trianglesLod0 = 0, trianglesLod1 = 0, trianglesGround = 0;
+};
+CityCounts countCity(const City& city);
+
 // city.json: seed, size, tiles, recipe, counts, coastline, streets, blocks, lots and buildings.
 std::string cityReportJson(const City& city);
 
