@@ -78,7 +78,6 @@ struct WallLine {
 
 struct Opening {
     double s0 = 0, s1 = 0, z0 = 0, z1 = 0;  // along the wall; heights
-    enum Kind { Window, Door } kind = Window;
     bool leaf = true;  // a pane or door leaf in the opening (interior doorways have none)
     std::optional<MeshBuilder::Glass> glass;  // windows: interior-mapping data
 };
@@ -314,7 +313,7 @@ StairFlight stairFlight(const BuildContext& ctx, int floor) {
     return flight;
 }
 
-// Cuts every `width` within [lo, hi] keeping `margin` from both ends, at least `minGap` apart.
+// Cuts every `width` or so within [lo, hi], none closer than `margin` to either end.
 std::vector<double> cutsWithin(double lo, double hi, double width, double margin) {
     std::vector<double> cuts;
     const double span = hi - lo;
@@ -568,7 +567,6 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
                     Opening op;
                     op.s0 = centre - width / 2, op.s1 = centre + width / 2;
                     op.z0 = sill, op.z1 = sill + height;
-                    op.kind = Opening::Window;
                     const glm::dvec2 mid = o + dir * centre + inward * t;
                     const double depth = rayExit(piece.polygon, mid, inward);
                     MeshBuilder::Glass g;
@@ -599,7 +597,6 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
                     Opening door;
                     door.s0 = 0.5 * (lo + hi) - w / 2, door.s1 = door.s0 + w;
                     door.z0 = slabTop, door.z1 = std::min(y0 + br.doorHeight, y1 - 0.3);
-                    door.kind = Opening::Door;
                     openings[e].push_back(door);
                     b.doors.push_back({roomId, -1, false, o + dir * (0.5 * (lo + hi))});
                     continue;
@@ -670,7 +667,6 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
                 d.s0 = *doorAt - ir.doorWidth / 2, d.s1 = *doorAt + ir.doorWidth / 2;
                 // A notch from the floor's bottom: the slabs on both sides fill it up to the floor.
                 d.z0 = y0, d.z1 = std::min(slabTop + ir.doorHeight, wallTop - 0.1);
-                d.kind = Opening::Door;
                 d.leaf = false;
                 if (d.s0 > 0.05 && d.s1 < w.length - 0.05) ops.push_back(d);
             }
