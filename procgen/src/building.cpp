@@ -913,10 +913,12 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     rs.parapetWidth = recipe.roofs.parapetWidth;
     rs.slabThickness = ir.slabThickness;
     rs.wallMaterial = style.wall;
-    // The ridge of a gable runs along the street; a shed rises towards it.
+    // The ridge of a gable runs along the street; a shed rises towards it. (The street edge,
+    // not the layout's frame: floors may be laid out from a side edge.)
+    const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
     for (std::size_t i = 0; i < top.size(); ++i) {
         const glm::dvec2 d = glm::normalize(top[(i + 1) % top.size()] - top[i]);
-        if (glm::dot(d, ctx.frame.u) > 0.99) { rs.frontEdge = i; break; }
+        if (glm::dot(d, streetDir) > 0.99) { rs.frontEdge = i; break; }
     }
     // A shed rises over the whole depth: keep it a lean-to, not a wedge.
     if (rs.type == RoofType::Shed) {

@@ -191,6 +191,29 @@ TEST(Building, GlassCarriesRoomDepthIndexAndSize) {
     }
 }
 
+TEST(Building, GableRidgesRunAlongTheStreet) {
+    // The rise of a gable over its footprint's depth behind the street, never over its length
+    // along it, also where the floors are laid out from a side edge (the thin lot last).
+    CityRecipe recipe;
+    recipe.roofs.flat = recipe.roofs.hip = recipe.roofs.shed = 0.0;
+    recipe.roofs.gable = 1.0;
+    std::vector<Lot> lots = testLots();
+    lots.push_back(makeLot({{60.32, 90.966}, {68.412, 90.637}, {65.853, 129.072}, {61.675, 129.059}}, 1));
+    int gables = 0;
+    for (const Lot& lot : lots)
+        for (std::uint64_t seed : {1u, 2u, 3u}) {
+            const Building b = buildBuilding(lot, recipe, seed);
+            if (b.floors == 0 || b.roof != RoofType::Gable) continue;
+            ++gables;
+            const std::size_t f = static_cast<std::size_t>(lot.frontEdge);
+            const PolygonFrame across = edgeFrame(lot.polygon, f);
+            const double depth = across.vMax - across.vMin;
+            const double top = recipe.buildings.groundStoreyHeight + (b.floors - 1) * recipe.buildings.storeyHeight;
+            EXPECT_LE(b.height - top, recipe.roofs.pitch * 0.75 * depth) << "lot at " << lot.polygon[0].x << " seed " << seed;
+        }
+    EXPECT_GT(gables, 6);
+}
+
 TEST(Building, StaysInsideItsLotAndIsDeterministic) {
     const CityRecipe recipes[2] = {CityRecipe{}, tallRecipe()};
     for (const CityRecipe& recipe : recipes)
