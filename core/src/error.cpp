@@ -10,4 +10,14 @@ void assertionFailed(const char* function, const char* message) {
     std::abort();
 }
 
+std::string oneLine(std::string message) {
+    if (!message.empty() && message.front() == '[') {
+        const std::size_t end = message.find("] ");
+        if (end != std::string::npos) message.erase(0, end + 2);
+    }
+    for (char& c : message)
+        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    return message;
+}
+
 }  // namespace dawnforge

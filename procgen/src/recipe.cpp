@@ -243,16 +243,6 @@ double number(const CityRecipe& r, std::string_view section, std::string_view me
     return std::visit([](auto v) { return double(v); }, fieldNamed(section, member).value(r));
 }
 
-// What a parser message says, on one line and without nlohmann's "[json.exception...]" tag.
-std::string oneLine(std::string message) {
-    if (!message.empty() && message.front() == '[') {
-        const std::size_t end = message.find("] ");
-        if (end != std::string::npos) message.erase(0, end + 2);
-    }
-    for (char& c : message)
-        if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-    return message;
-}
 
 }  // namespace
 

@@ -27,6 +27,10 @@ public:
 
 [[noreturn]] void assertionFailed(const char* function, const char* message);
 
+// A library's error message (a JSON or EXR parser's) fit for an InputError: on one line,
+// without a leading "[tag] " such as nlohmann's "[json.exception.parse_error.101] ".
+std::string oneLine(std::string message);
+
 }  // namespace dawnforge
 
 #define DAWNFORGE_ASSERT(condition, message)                                  \
