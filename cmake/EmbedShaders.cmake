@@ -1,0 +1,21 @@
+# Run as a script (cmake -P) at build time: embeds every shader file given in SHADERS
+# (a ;-list of paths) into OUTPUT, a C++ source defining dawnforge::runtime::detail::kShaders.
+# Each file becomes a raw string literal named by its file name (e.g. "ocean.vert").
+set(body "// Generated from runtime/shaders/ by cmake/EmbedShaders.cmake: do not edit.\n")
+string(APPEND body "#include \"shader_sources.hpp\"\n\nnamespace dawnforge::runtime::detail {\n\n")
+string(APPEND body "const EmbeddedShader kShaders[] = {\n")
+set(count 0)
+foreach(file IN LISTS SHADERS)
+  get_filename_component(name ${file} NAME)
+  file(READ ${file} text)
+  string(FIND "${text}" ")dfshader\"" clash)
+  if(NOT clash EQUAL -1)
+    message(FATAL_ERROR "${file} contains the raw-string delimiter )dfshader\"")
+  endif()
+  string(APPEND body "    {\"${name}\", R\"dfshader(${text})dfshader\"},\n")
+  math(EXPR count "${count} + 1")
+endforeach()
+string(APPEND body "};\nconst std::size_t kShaderCount = ${count};\n\n}  // namespace dawnforge::runtime::detail\n")
+file(WRITE ${OUTPUT}.tmp "${body}")
+file(COPY_FILE ${OUTPUT}.tmp ${OUTPUT} ONLY_IF_DIFFERENT)
+file(REMOVE ${OUTPUT}.tmp)

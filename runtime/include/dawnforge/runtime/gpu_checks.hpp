@@ -1,0 +1,24 @@
+#pragma once
+// The shaders' functions evaluated on the GPU (a compute shader including the same GLSL
+// the vertex shaders use), so tests can hold them against the CPU versions in ocean.hpp.
+// A GL context must be current.
+#include <dawnforge/runtime/ocean.hpp>
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace dawnforge::runtime {
+
+struct GpuWaveSample {
+    glm::dvec3 displacement;  // Gerstner offset from (x, 0, z)
+    double noiseHeight = 0.0; // the noise texture's height detail
+    glm::dvec3 normal;
+};
+// points: (x, z) on the plane; the same waves and noise texture the renderer uploads.
+std::vector<GpuWaveSample> gpuWaves(const WaveSet& waves, const WaveNoise& noise, const std::vector<glm::dvec2>& points,
+                                    double t, double attenuation);
+// Every vertex of `grid` (row-major, row 0 first) as the ocean vertex shader places it before displacement.
+std::vector<glm::dvec3> gpuGridVertices(const OceanGrid& grid);
+
+}  // namespace dawnforge::runtime

@@ -1,0 +1,94 @@
+#pragma once
+// The renderer: loads what a scene file names (the city, destruction VATs, the ocean) onto
+// the GPU and draws frames through a fixed frame graph of passes, each timed with GL timer
+// queries:
+//   overlook (once, at load)  top-down orthographic depth of the terrain and buildings
+//   shadow                    directional shadow map from the sun (LOD1 shells, VAT pieces)
+//   opaque                    buildings (atlas tiling, interior mapping on glass) and ground
+//   destruction               VAT playback of each destruction instance
+//   sky                       sky and sun where nothing was drawn
+//   ocean                     projected-grid Gerstner water, blended, depth writes on
+//   tonemap                   HDR → 8-bit sRGB (ACES fit)
+//   readback                  pixels back to the CPU (headless only)
+// A GL context (GlContext) must be current on the calling thread for the whole life.
+#include <dawnforge/exporters/image.hpp>
+#include <dawnforge/runtime/scene_file.hpp>
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dawnforge::runtime {
+
+struct ViewCamera {
+    glm::dvec3 position{0.0, 50.0, 100.0};
+    glm::dvec3 forward{0.0, -0.4, -1.0};  // normalised by the renderer
+    double fovYDegrees = 50.0;
+};
+
+struct FrameSettings {
+    ViewCamera camera;
+    double time = 0.0;       // seconds since the scene started (destruction, waves)
+    double timeOfDay = 15.0; // hours
+};
+
+struct PassTime {
+    std::string name;
+    double gpuMs = 0.0;  // GL_TIME_ELAPSED
+    double cpuMs = 0.0;  // wall time on the CPU around the pass (its real cost when passes are synchronised)
+};
+
+struct FrameStats {
+    std::vector<PassTime> passes;
+    double frameMs = 0.0;  // CPU wall time of the whole frame, including the final glFinish
+    std::size_t drawCalls = 0;
+    std::size_t triangles = 0;
+    std::size_t oceanVertices = 0;
+    std::size_t lod0Buildings = 0, lod1Buildings = 0, culledBuildings = 0;
+};
+
+struct RendererOptions {
+    glm::ivec2 size{1280, 720};
+    double lodDistance = 90.0;  // buildings nearer than this draw LOD0 (interiors, reveals); farther: LOD1
+    int shadowMapSize = 2048;
+};
+
+class Renderer {
+public:
+    // Loads everything; throws InputError for bad scene content (a city.glb that is not a
+    // city, a VAT that does not match its mesh, ...).
+    Renderer(const SceneFile& scene, const RendererOptions& options);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // A camera that frames the whole scene (used when the scene names none).
+    ViewCamera overviewCamera() const;
+    static ViewCamera cameraOf(const SceneCamera& camera);
+
+    // Draws one frame into the offscreen target; resizes it first if `size` differs.
+    FrameStats render(const FrameSettings& frame);
+    // The last frame's pixels (row 0 at the top), timed as the "readback" pass in `stats`.
+    Image readPixels(FrameStats* stats = nullptr);
+    // Copies the last frame into the default framebuffer (window).
+    void present(glm::ivec2 windowSize);
+    void resize(glm::ivec2 size);
+    // glFinish after every pass: slower, but each pass's cpu_ms is then its real cost on any
+    // driver (GPU timer queries are exact on real GPUs; llvmpipe defers work to flushes).
+    void setSynchronisedPasses(bool on);
+    // Overlook depth, shadow map etc. loaded: seconds spent loading, for --stats.
+    double loadSeconds() const;
+    double overlookMs() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> s_;
+};
+
+// --stats JSON: {"size":[w,h],"renderer":"...","passes":[{"name":..,"gpu_ms":..,"cpu_ms":..}],...}
+std::string frameStatsJson(const FrameStats& stats, glm::ivec2 size, const std::string& device, double loadSeconds,
+                           double overlookMs);
+
+}  // namespace dawnforge::runtime

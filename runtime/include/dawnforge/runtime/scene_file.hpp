@@ -1,0 +1,86 @@
+#pragma once
+// scene.json: what the runtime draws (ARCHITECTURE.md, File formats).
+//
+//   {
+//     "format": "dawnforge.scene", "version": 1,        required
+//     "city": "city",                                    a folder with city.glb (and city.json)
+//     "time_of_day": 17.5,                               hours, [0, 24); default 15
+//     "time": 3.0,                                       seconds since the scene started, >= 0; default 0
+//     "fps": 30,                                         > 0; `render --frame F` draws time F / fps; default 30
+//     "ocean": { "level": -0.8,                          sea level (m); default -0.8
+//                "grid": [192, 160],                     projected grid columns, rows: 2..1024; default [192, 160]
+//                "shore_depth": 4.0 },                   depth (m, > 0) at which waves reach full amplitude; default 4
+//     "destruction": [ { "vat": "vat",                   required: a folder written by `dawnforge vat`
+//                        "name": "tower_native",         required: the VAT's <name> (<name>_data.json, ...)
+//                        "position": [0, 0, 0],          where the VAT's origin goes (m); default [0, 0, 0]
+//                        "yaw_degrees": 0,               turn about +Y; default 0
+//                        "start_time": 1.0 } ],          scene time (s) of the VAT's frame 0; default 0
+//     "cameras": [ { "name": "overview",                 required, unique, not empty; the first is the default
+//                    "position": [0, 40, 120],           default [0, 0, 0]
+//                    "target": [0, 0, 0],                default [0, 0, -1]; must differ from position
+//                    "fov_degrees": 50 } ]               vertical field of view, in (1, 179); default 50
+//   }
+//
+// Every key but "format" and "version" is optional; "ocean" absent or null means no ocean.
+// Unknown keys at any level are errors (a misspelt key would otherwise be silently ignored).
+// Relative paths are relative to the folder that holds scene.json.
+#include <glm/vec3.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dawnforge::runtime {
+
+struct SceneCamera {
+    std::string name;
+    glm::dvec3 position{0.0};
+    glm::dvec3 target{0.0, 0.0, -1.0};
+    double fovDegrees = 50.0;  // vertical
+};
+
+struct OceanSettings {
+    double level = -0.8;
+    int columns = 192;
+    int rows = 160;
+    double shoreDepth = 4.0;  // waves reach full amplitude this deep
+};
+
+struct DestructionInstance {
+    std::filesystem::path vatDir;
+    std::string name;
+    glm::dvec3 position{0.0};
+    double yawDegrees = 0.0;
+    double startTime = 0.0;
+};
+
+struct SceneFile {
+    std::filesystem::path file;                    // the scene.json itself
+    std::optional<std::filesystem::path> cityDir;  // holds city.glb (required there) and city.json
+    double timeOfDay = 15.0;                       // hours [0, 24)
+    double time = 0.0;                             // seconds since the scene started (what `render` draws unless --frame)
+    double fps = 30.0;                             // for --frame F: time = F / fps
+    std::optional<OceanSettings> ocean;
+    std::vector<DestructionInstance> destruction;
+    std::vector<SceneCamera> cameras;              // the first is the default
+};
+
+// Reads and parses `file`, then checks that the city folder holds city.glb and that each
+// destruction's VAT folder holds <name>_data.json. Throws InputError (one line, starting
+// with the file's path) on any problem.
+SceneFile loadSceneFile(const std::filesystem::path& file);
+
+// Parses and checks the document without touching the disk. `file` names the document in
+// messages, and relative paths are resolved against its folder.
+SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& file);
+
+// The document for `scene`, with paths relative to `relativeTo` (the folder the scene.json
+// will be written to); parseSceneJson reads it back to the same scene.
+std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& relativeTo);
+
+// The camera called `name`, or nullptr.
+const SceneCamera* findCamera(const SceneFile& scene, std::string_view name);
+
+}  // namespace dawnforge::runtime

@@ -1,0 +1,35 @@
+#version 450 core
+// Static meshes (buildings, ground). The block mapping (material → atlas block) is
+// per-instance data, so one mesh can wear different block combinations in one draw.
+#define DAWNFORGE_VERTEX_STAGE
+#include "common.glsl"
+#include "atlas.glsl"
+#include "surface.glsl"
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aUv0;
+layout(location = 3) in vec2 aUv1;
+layout(location = 4) in vec2 aUv2;
+layout(location = 5) in uint aMaterial;
+layout(location = 6) in uvec4 aBlocks;    // per instance: 16 block codes, one byte each
+layout(location = 7) in uint aBuilding;   // per instance: the building id (room styles, lit windows)
+#ifdef DEPTH_PASS
+layout(location = 0) uniform mat4 depthViewProj;
+#endif
+void main() {
+    vec3 world = aPosition;
+#ifdef DEPTH_PASS
+    gl_Position = depthViewProj * vec4(world, 1.0);
+#else
+    vWorld = world;
+    vNormal = aNormal;
+    vUv0 = aUv0;
+    vUv1 = aUv1;
+    vUv2 = aUv2;
+    vMaterial = aMaterial & 15u;
+    vRect = atlasBlockRect(blockCode(aBlocks, vMaterial));
+    vTile = materials.tileMetres[vMaterial].x;
+    vBuilding = aBuilding;
+    gl_Position = frame.viewProj * vec4(world, 1.0);
+#endif
+}

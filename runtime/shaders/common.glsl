@@ -1,0 +1,62 @@
+// Shared by every pass: the per-frame uniform block, sky colour, sun shadow and lighting.
+layout(std140, binding = 0) uniform Frame {
+    mat4 viewProj;
+    mat4 invViewProj;
+    mat4 lightViewProj;
+    vec4 cameraPos;    // xyz; w = scene time (s)
+    vec4 sunDir;       // xyz towards the sun; w = night (0 day, 1 night)
+    vec4 sunColor;     // linear rgb
+    vec4 skyZenith;
+    vec4 skyHorizon;
+    vec4 groundColor;
+    vec4 viewport;     // width, height, 1/width, 1/height
+    vec4 overlook;     // xz origin of the overlook area, xz size
+    vec4 overlookDepth;// camera height, near, far - near, 0
+} frame;
+
+const float kPi = 3.14159265;
+
+vec3 skyColor(vec3 dir) {
+    float up = clamp(dir.y, -1.0, 1.0);
+    vec3 sky = mix(frame.skyHorizon.rgb, frame.skyZenith.rgb, pow(clamp(up, 0.0, 1.0), 0.55));
+    // Below the horizon: the horizon colour fading to a darker haze.
+    sky = up < 0.0 ? mix(frame.skyHorizon.rgb, frame.groundColor.rgb, clamp(-up * 3.0, 0.0, 1.0)) : sky;
+    float sunAmount = max(dot(dir, frame.sunDir.xyz), 0.0);
+    sky += frame.sunColor.rgb * (0.35 * pow(sunAmount, 8.0) + 0.25 * pow(sunAmount, 64.0));
+    return sky;
+}
+
+// Sun (or moon) disk, added by the sky pass only.
+vec3 sunDisk(vec3 dir) {
+    float d = dot(dir, frame.sunDir.xyz);
+    return frame.sunColor.rgb * 12.0 * smoothstep(0.9995, 0.9998, d);
+}
+
+layout(binding = 7) uniform sampler2DShadow shadowMap;
+
+float sunShadow(vec3 worldPos, vec3 normal) {
+    vec4 p = frame.lightViewProj * vec4(worldPos + normal * 0.15, 1.0);
+    vec3 q = p.xyz / p.w * 0.5 + 0.5;
+    if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))) || q.z > 1.0) return 1.0;
+    vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
+    float sum = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        vec2 o = (vec2(i & 1, i >> 1) - 0.5) * texel;
+        sum += texture(shadowMap, vec3(q.xy + o, q.z - 0.0015));
+    }
+    return sum * 0.25;
+}
+
+// Diffuse light on a surface: the sun with its shadow plus a sky/ground hemisphere.
+vec3 diffuseLight(vec3 worldPos, vec3 n) {
+    float ndl = max(dot(n, frame.sunDir.xyz), 0.0);
+    float shadow = ndl > 0.0 ? sunShadow(worldPos, n) : 0.0;
+    vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5);
+    return frame.sunColor.rgb * ndl * shadow + hemi * 0.9;
+}
+
+// Cheap integer hash (the same on every GPU and driver).
+uint hashU(uint x) {
+    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+    return x;
+}

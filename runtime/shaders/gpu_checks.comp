@@ -1,0 +1,31 @@
+#version 450 core
+// Evaluates the vertex shaders' functions for a list of inputs, so tests can compare the
+// GPU with the CPU (ocean.cpp): mode 0 = waves at plane points, mode 1 = grid vertices.
+#include "ocean_waves.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Inputs { vec4 inputs[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
+layout(std140, binding = 2) uniform Ocean {
+    vec4 waveDirs01, waveDirs23, amplitude, wavelength, steepness, phase, noiseScale, noiseDriftX, noiseDriftY, params;
+} ocean;
+layout(binding = 5) uniform sampler2D waveNoise;
+layout(location = 0) uniform int mode;
+layout(location = 1) uniform int count;
+layout(location = 2) uniform mat4 inverseViewProjection;
+void main() {
+    int i = int(gl_GlobalInvocationID.x);
+    if (i >= count) return;
+    vec4 in_ = inputs[i];
+    if (mode == 0) {  // in: (x, z, t, attenuation); out: displaced point relative to (x, level, z), noise height in w
+        vec3 normal;
+        vec3 d = gerstnerDisplacement(in_.xy, in_.z, in_.w, ocean.waveDirs01, ocean.waveDirs23, ocean.amplitude,
+                                      ocean.wavelength, ocean.steepness, ocean.phase, normal);
+        float h = noiseHeight(waveNoise, in_.xy, in_.z, ocean.params.z, ocean.noiseScale, ocean.noiseDriftX,
+                              ocean.noiseDriftY, in_.w);
+        outputs[2 * i] = vec4(d, h);
+        outputs[2 * i + 1] = vec4(normal, 0.0);
+    } else {          // in: (ndc x, ndc y, level, 0); out: the grid vertex
+        outputs[2 * i] = vec4(oceanGridVertex(in_.xy, inverseViewProjection, in_.z), 1.0);
+        outputs[2 * i + 1] = vec4(0.0);
+    }
+}

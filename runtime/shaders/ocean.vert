@@ -1,0 +1,56 @@
+#version 450 core
+// Projected-grid ocean: each vertex is a fixed (column, row) of a screen-space grid whose
+// rows the CPU places every frame (ocean.hpp: squeezed below the horizon, geometric in
+// distance, a virtual camera for grazing views). The vertex is the camera ray through its
+// NDC point cut by the water plane, displaced by four Gerstner waves and the noise texture,
+// with the amplitude attenuated near shores from the overlook depth texture.
+#include "common.glsl"
+#include "ocean_waves.glsl"
+layout(location = 0) in vec2 aGrid;  // (column / (columns − 1), row)
+layout(std430, binding = 1) readonly buffer Rows { float rowNdcY[]; };
+layout(std140, binding = 2) uniform Ocean {
+    vec4 waveDirs01;   // direction of waves 0 and 1 (x, z, x, z)
+    vec4 waveDirs23;
+    vec4 amplitude;
+    vec4 wavelength;
+    vec4 steepness;
+    vec4 phase;
+    vec4 noiseScale;
+    vec4 noiseDriftX;
+    vec4 noiseDriftY;
+    vec4 params;       // level, shore depth, noise amplitude, grid columns
+} ocean;
+layout(binding = 5) uniform sampler2D waveNoise;
+layout(binding = 6) uniform sampler2D overlookDepthTexture;
+out vec3 vWorld;
+out vec3 vNormal;
+out float vShore;  // 0 at the shore, 1 in open water
+
+float shoreAttenuation(vec2 xz) {
+    vec2 uv = (xz - frame.overlook.xy) / frame.overlook.zw;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    float depth = textureLod(overlookDepthTexture, uv, 0.0).r;
+    float ground = frame.overlookDepth.x - (frame.overlookDepth.y + depth * frame.overlookDepth.z);
+    return smoothstep(0.0, ocean.params.y, ocean.params.x - ground);
+}
+
+void main() {
+    float level = ocean.params.x;
+    vec2 ndc = vec2(aGrid.x * 2.0 - 1.0, rowNdcY[int(aGrid.y + 0.5)]);
+    vec3 p0 = oceanGridVertex(ndc, frame.invViewProj, level);
+    float shore = shoreAttenuation(p0.xz);
+    // The grid's outer rows and columns lie on the screen's edges: they keep still so the
+    // waves never pull the water's edge into view.
+    float column = aGrid.x * (ocean.params.w - 1.0);
+    float edge = min(smoothstep(0.0, 3.0, aGrid.y), min(smoothstep(0.0, 2.0, column), smoothstep(0.0, 2.0, ocean.params.w - 1.0 - column)));
+    float attenuation = shore * edge;
+    vec3 normal;
+    vec3 d = gerstnerDisplacement(p0.xz, frame.cameraPos.w, attenuation, ocean.waveDirs01, ocean.waveDirs23,
+                                  ocean.amplitude, ocean.wavelength, ocean.steepness, ocean.phase, normal);
+    float detail = noiseHeight(waveNoise, p0.xz, frame.cameraPos.w, ocean.params.z, ocean.noiseScale,
+                               ocean.noiseDriftX, ocean.noiseDriftY, attenuation);
+    vWorld = vec3(p0.x + d.x, level + d.y + detail, p0.z + d.z);
+    vNormal = normal;
+    vShore = shore;
+    gl_Position = frame.viewProj * vec4(vWorld, 1.0);
+}

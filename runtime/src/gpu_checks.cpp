@@ -1,0 +1,65 @@
+#include <dawnforge/runtime/gpu_checks.hpp>
+
+#include "gl.hpp"
+#include "ocean_gpu.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+// Runs gpu_checks.comp over `inputs`; two vec4 outputs per input.
+std::vector<glm::vec4> run(int mode, const std::vector<glm::vec4>& inputs, const OceanUniforms& ocean, GLuint noise,
+                           const glm::mat4& inverseViewProjection) {
+    const gl::Program program = gl::makeComputeProgram("gpu_checks.comp");
+    const gl::Buffer in = gl::makeBuffer(inputs);
+    const gl::Buffer out = gl::makeBuffer(nullptr, inputs.size() * 2 * sizeof(glm::vec4), GL_MAP_READ_BIT);
+    const gl::Buffer ubo = gl::makeBuffer(&ocean, sizeof(ocean));
+    glUseProgram(program.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, 2, ubo.id());
+    if (noise) glBindTextureUnit(5, noise);
+    glUniform1i(0, mode);
+    glUniform1i(1, int(inputs.size()));
+    glUniformMatrix4fv(2, 1, GL_FALSE, glm::value_ptr(inverseViewProjection));
+    glDispatchCompute(GLuint((inputs.size() + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> result(inputs.size() * 2);
+    glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(result.size() * sizeof(glm::vec4)), result.data());
+    gl::check("gpu checks");
+    return result;
+}
+
+}  // namespace
+
+std::vector<GpuWaveSample> gpuWaves(const WaveSet& waves, const WaveNoise& noise, const std::vector<glm::dvec2>& points,
+                                    double t, double attenuation) {
+    const gl::Texture texture = uploadWaveNoise(noise);
+    std::vector<glm::vec4> inputs;
+    for (const glm::dvec2& p : points) inputs.emplace_back(float(p.x), float(p.y), float(t), float(attenuation));
+    const std::vector<glm::vec4> out = run(0, inputs, oceanUniforms(waves, 0.0, 1.0, 2), texture.id(), glm::mat4(1.0f));
+    std::vector<GpuWaveSample> samples(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        samples[i].displacement = glm::dvec3(out[2 * i]);
+        samples[i].noiseHeight = out[2 * i].w;
+        samples[i].normal = glm::dvec3(out[2 * i + 1]);
+    }
+    return samples;
+}
+
+std::vector<glm::dvec3> gpuGridVertices(const OceanGrid& grid) {
+    std::vector<glm::vec4> inputs;
+    for (int r = 0; r < grid.rows; ++r)
+        for (int c = 0; c < grid.columns; ++c)
+            inputs.emplace_back(-1.0f + 2.0f * float(c) / float(grid.columns - 1), float(grid.rowNdcY[std::size_t(r)]),
+                                float(grid.level), 0.0f);
+    const std::vector<glm::vec4> out =
+        run(1, inputs, oceanUniforms(defaultWaves(), grid.level, 1.0, grid.columns), 0, glm::mat4(grid.inverseViewProjection));
+    std::vector<glm::dvec3> vertices(inputs.size());
+    for (std::size_t i = 0; i < inputs.size(); ++i) vertices[i] = glm::dvec3(out[2 * i]);
+    return vertices;
+}
+
+}  // namespace dawnforge::runtime

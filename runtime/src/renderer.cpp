@@ -1,0 +1,307 @@
+// The renderer: GPU resources for a scene and the frame graph that draws it.
+#include <dawnforge/runtime/renderer.hpp>
+
+#include "gl.hpp"
+#include "scene_gpu.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/runtime/sky.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr double kNear = 0.5, kFar = 4000.0;
+
+// The Frame uniform block of common.glsl (std140: mat4 and vec4 only).
+struct FrameBlock {
+    glm::mat4 viewProj, invViewProj, lightViewProj;
+    glm::vec4 cameraPos, sunDir, sunColor, skyZenith, skyHorizon, groundColor, viewport, overlook, overlookDepth;
+};
+
+// A minimal frame graph: passes in a fixed order, each bracketed by a GL_TIME_ELAPSED
+// query and a CPU clock. The timings are collected after the frame's glFinish.
+class FrameGraph {
+public:
+    void add(std::string name, std::function<void()> run) {
+        GLuint q = 0;
+        glCreateQueries(GL_TIME_ELAPSED, 1, &q);
+        passes_.push_back({std::move(name), std::move(run), gl::Query(q), 0.0});
+    }
+    // synchronise: glFinish after each pass, so its CPU time is what it cost even on a
+    // driver that defers the work to a later flush (llvmpipe rasterises at flush time).
+    void execute(bool synchronise) {
+        for (Pass& p : passes_) {
+            const auto t0 = Clock::now();
+            glBeginQuery(GL_TIME_ELAPSED, p.query.id());
+            p.run();
+            glEndQuery(GL_TIME_ELAPSED);
+            if (synchronise) glFinish();
+            p.cpuMs = msSince(t0);
+        }
+    }
+    void collect(std::vector<PassTime>& out) const {
+        for (const Pass& p : passes_) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(p.query.id(), GL_QUERY_RESULT, &ns);
+            out.push_back({p.name, double(ns) * 1e-6, p.cpuMs});
+        }
+    }
+
+private:
+    struct Pass {
+        std::string name;
+        std::function<void()> run;
+        gl::Query query;
+        double cpuMs;
+    };
+    std::vector<Pass> passes_;
+};
+
+struct Target {
+    glm::ivec2 size{0};
+    gl::Texture hdr, depth, ldr;
+    gl::Framebuffer hdrFbo, ldrFbo;
+};
+
+Target makeTarget(glm::ivec2 size) {
+    Target t;
+    t.size = size;
+    t.hdr = gl::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.hdr.id(), 1, GL_RGBA16F, size.x, size.y);
+    t.depth = gl::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.depth.id(), 1, GL_DEPTH_COMPONENT32F, size.x, size.y);
+    t.ldr = gl::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(t.ldr.id(), 1, GL_RGBA8, size.x, size.y);
+    t.hdrFbo = gl::makeFramebuffer();
+    glNamedFramebufferTexture(t.hdrFbo.id(), GL_COLOR_ATTACHMENT0, t.hdr.id(), 0);
+    glNamedFramebufferTexture(t.hdrFbo.id(), GL_DEPTH_ATTACHMENT, t.depth.id(), 0);
+    t.ldrFbo = gl::makeFramebuffer();
+    glNamedFramebufferTexture(t.ldrFbo.id(), GL_COLOR_ATTACHMENT0, t.ldr.id(), 0);
+    for (GLuint fbo : {t.hdrFbo.id(), t.ldrFbo.id()})
+        if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw std::runtime_error("the GL driver cannot render to an RGBA16F/RGBA8 framebuffer");
+    return t;
+}
+
+
+}  // namespace
+
+struct Renderer::State {
+    RendererOptions options;
+    SceneGpu scene;
+    Target target;
+    gl::Program sky, tonemap;
+    gl::Buffer frameUbo;
+    gl::VertexArray emptyVao;
+    FrameGraph graph;
+    FrameSettings frame;
+    FrameStats stats;
+    glm::mat4 viewProj{1.0f};
+    glm::dvec3 cameraPos{0.0};
+    double exposure = 1.0;
+    double loadSeconds = 0.0;
+    bool synchronise = false;
+};
+
+Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) : s_(std::make_unique<State>()) {
+    const auto t0 = Clock::now();
+    State& s = *s_;
+    s.options = options;
+    if (options.size.x < 1 || options.size.y < 1 || options.size.x > 16384 || options.size.y > 16384)
+        throw InputError(format("image size {}x{} is out of range (1 to 16384)", options.size.x, options.size.y));
+    s.scene.load(sceneFile, options.shadowMapSize);
+    s.target = makeTarget(options.size);
+    s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
+    s.tonemap = gl::makeProgram("fullscreen.vert", "tonemap.frag");
+    s.frameUbo = gl::makeBuffer(nullptr, sizeof(FrameBlock), GL_DYNAMIC_STORAGE_BIT);
+    s.emptyVao = gl::makeVertexArray();
+
+    // The frame graph. Each pass binds what it draws into.
+    s.graph.add("shadow", [&s] {
+        s.stats.drawCalls += s.scene.drawShadow(s.frame.time);
+    });
+    s.graph.add("opaque", [&s] {
+        glBindFramebuffer(GL_FRAMEBUFFER, s.target.hdrFbo.id());
+        glViewport(0, 0, s.target.size.x, s.target.size.y);
+        glDepthMask(GL_TRUE);
+        glClearDepth(1.0);
+        const float black[4] = {0, 0, 0, 1};
+        glClearNamedFramebufferfv(s.target.hdrFbo.id(), GL_COLOR, 0, black);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDisable(GL_CULL_FACE);  // city meshes are closed but their winding is not relied on
+        s.stats.drawCalls += s.scene.drawOpaque(s.cameraPos, s.viewProj, s.options.lodDistance, s.stats);
+    });
+    s.graph.add("destruction", [&s] { s.stats.drawCalls += s.scene.drawDestruction(s.frame.time, s.stats); });
+    s.graph.add("sky", [&s] {
+        glDepthFunc(GL_LEQUAL);
+        glDepthMask(GL_FALSE);
+        glUseProgram(s.sky.id());
+        glBindVertexArray(s.emptyVao.id());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_LESS);
+        s.stats.drawCalls += 1;
+    });
+    s.graph.add("ocean", [&s] {
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        s.stats.drawCalls += s.scene.drawOcean(s.frame, s.target.size, s.stats);
+        glDisable(GL_BLEND);
+    });
+    s.graph.add("tonemap", [&s] {
+        glBindFramebuffer(GL_FRAMEBUFFER, s.target.ldrFbo.id());
+        glViewport(0, 0, s.target.size.x, s.target.size.y);
+        glDisable(GL_DEPTH_TEST);
+        glUseProgram(s.tonemap.id());
+        glBindTextureUnit(0, s.target.hdr.id());
+        glUniform1f(0, float(s.exposure));
+        glBindVertexArray(s.emptyVao.id());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        s.stats.drawCalls += 1;
+    });
+    glFinish();
+    gl::check("loading the scene");
+    s.loadSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Renderer::~Renderer() = default;
+
+double Renderer::loadSeconds() const { return s_->loadSeconds; }
+double Renderer::overlookMs() const { return s_->scene.overlookMs(); }
+
+ViewCamera Renderer::cameraOf(const SceneCamera& camera) {
+    ViewCamera v;
+    v.position = camera.position;
+    v.forward = glm::normalize(camera.target - camera.position);
+    v.fovYDegrees = camera.fovDegrees;
+    return v;
+}
+
+ViewCamera Renderer::overviewCamera() const {
+    const glm::dvec3 lo = s_->scene.boundsMin(), hi = s_->scene.boundsMax();
+    const glm::dvec3 centre = 0.5 * (lo + hi), size = hi - lo;
+    const double extent = std::max({size.x, size.z, 1.0});
+    ViewCamera v;
+    v.position = centre + glm::dvec3(0.45 * extent, 0.55 * extent, 0.75 * extent);
+    v.forward = glm::normalize(glm::dvec3(centre.x, lo.y, centre.z) - v.position);
+    return v;
+}
+
+void Renderer::setSynchronisedPasses(bool on) { s_->synchronise = on; }
+
+void Renderer::resize(glm::ivec2 size) {
+    if (size != s_->target.size && size.x > 0 && size.y > 0) s_->target = makeTarget(size);
+}
+
+FrameStats Renderer::render(const FrameSettings& frame) {
+    State& s = *s_;
+    const auto t0 = Clock::now();
+    s.frame = frame;
+    s.stats = FrameStats{};
+    const glm::ivec2 size = s.target.size;
+    ViewCamera cam = frame.camera;
+    cam.forward = glm::normalize(cam.forward);
+    if (std::abs(cam.forward.y) > 0.9999) cam.forward = glm::normalize(cam.forward + glm::dvec3(0, 0, -1e-3));
+    s.cameraPos = cam.position;
+    const glm::dmat4 proj = glm::perspective(glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
+    const glm::dmat4 view = glm::lookAt(cam.position, cam.position + cam.forward, glm::dvec3(0, 1, 0));
+    const glm::dmat4 viewProj = proj * view;
+    s.viewProj = glm::mat4(viewProj);
+    s.scene.setCamera(cam.position, cam.forward, glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
+
+    const Lighting light = lightingAt(frame.timeOfDay);
+    s.exposure = 1.0 / (0.35 + 0.65 * (1.0 - light.night)) * 0.9;
+    FrameBlock block;
+    block.viewProj = glm::mat4(viewProj);
+    block.invViewProj = glm::mat4(glm::inverse(viewProj));
+    block.lightViewProj = s.scene.lightViewProj(light.sunDirection);
+    block.cameraPos = glm::vec4(glm::vec3(cam.position), float(frame.time));
+    block.sunDir = glm::vec4(glm::vec3(light.sunDirection), float(light.night));
+    block.sunColor = glm::vec4(glm::vec3(light.sunColor), 0.0f);
+    block.skyZenith = glm::vec4(glm::vec3(light.zenith), 0.0f);
+    block.skyHorizon = glm::vec4(glm::vec3(light.horizon), 0.0f);
+    block.groundColor = glm::vec4(glm::vec3(light.ground), 0.0f);
+    block.viewport = glm::vec4(float(size.x), float(size.y), 1.0f / float(size.x), 1.0f / float(size.y));
+    block.overlook = s.scene.overlookArea();
+    block.overlookDepth = s.scene.overlookDepthRange();
+    glNamedBufferSubData(s.frameUbo.id(), 0, sizeof(block), &block);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, s.frameUbo.id());
+    s.scene.bindShared();
+
+    s.graph.execute(s.synchronise);
+    glFinish();
+    s.graph.collect(s.stats.passes);
+    s.stats.frameMs = msSince(t0);
+    gl::check("rendering a frame");
+    return s.stats;
+}
+
+Image Renderer::readPixels(FrameStats* stats) {
+    const auto t0 = Clock::now();
+    const glm::ivec2 size = s_->target.size;
+    Image image{size.x, size.y, std::vector<std::uint8_t>(std::size_t(size.x) * std::size_t(size.y) * 4)};
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, s_->target.ldrFbo.id());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+    // GL's row 0 is the bottom; images start at the top.
+    const std::size_t row = std::size_t(size.x) * 4;
+    for (int y = 0; y < size.y / 2; ++y)
+        std::swap_ranges(image.rgba.begin() + std::ptrdiff_t(row * std::size_t(y)),
+                         image.rgba.begin() + std::ptrdiff_t(row * std::size_t(y + 1)),
+                         image.rgba.begin() + std::ptrdiff_t(row * std::size_t(size.y - 1 - y)));
+    gl::check("reading pixels back");
+    if (stats) {
+        const double ms = msSince(t0);
+        stats->passes.push_back({"readback", ms, ms});
+        stats->frameMs += ms;
+    }
+    return image;
+}
+
+void Renderer::present(glm::ivec2 windowSize) {
+    glBlitNamedFramebuffer(s_->target.ldrFbo.id(), 0, 0, 0, s_->target.size.x, s_->target.size.y, 0, 0, windowSize.x,
+                           windowSize.y, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+}
+
+std::string frameStatsJson(const FrameStats& stats, glm::ivec2 size, const std::string& device, double loadSeconds,
+                           double overlookMs) {
+    const auto ms = [](double v) { return std::round(v * 1000.0) / 1000.0; };
+    nlohmann::ordered_json j;
+    j["size"] = {size.x, size.y};
+    j["device"] = device;
+    j["load_s"] = ms(loadSeconds);
+    j["overlook_ms"] = ms(overlookMs);
+    j["frame_ms"] = ms(stats.frameMs);
+    double gpu = 0.0;
+    nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+    for (const PassTime& p : stats.passes) {
+        passes.push_back({{"name", p.name}, {"gpu_ms", ms(p.gpuMs)}, {"cpu_ms", ms(p.cpuMs)}});
+        gpu += p.gpuMs;
+    }
+    j["gpu_ms"] = ms(gpu);
+    j["draw_calls"] = stats.drawCalls;
+    j["triangles"] = stats.triangles;
+    j["ocean_vertices"] = stats.oceanVertices;
+    j["buildings"] = {{"lod0", stats.lod0Buildings}, {"lod1", stats.lod1Buildings}, {"culled", stats.culledBuildings}};
+    j["passes"] = std::move(passes);
+    return j.dump(2) + "\n";
+}
+
+}  // namespace dawnforge::runtime

@@ -1,0 +1,276 @@
+// scene.json (scene_file.hpp): a strict reader (unknown keys and out-of-range values are
+// errors that name the key) and the writer it round-trips with.
+#include <dawnforge/runtime/scene_file.hpp>
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+#include <sstream>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+using Json = nlohmann::ordered_json;  // keeps the document's order: the first bad key is reported
+
+constexpr const char* kFormat = "dawnforge.scene";
+constexpr int kVersion = 1;
+constexpr int kMinGrid = 2, kMaxGrid = 1024;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+
+// A value as the user wrote it, short enough for a one-line message.
+std::string shown(const Json& j) {
+    std::string s = j.dump();
+    if (s.size() > 40) s = s.substr(0, 37) + "...";
+    return s;
+}
+
+std::string join(std::initializer_list<const char*> keys) {
+    std::string out;
+    for (const char* k : keys) out += (out.empty() ? "" : ", ") + std::string(k);
+    return out;
+}
+
+// `p` without "." and ".." segments or a trailing separator.
+std::filesystem::path normalPath(const std::filesystem::path& p) {
+    std::filesystem::path n = p.lexically_normal();
+    if (n.has_relative_path() && n.filename().empty()) n = n.parent_path();
+    return n;
+}
+
+struct Reader {
+    std::string file;  // for messages
+    std::filesystem::path folder;  // relative paths start here
+
+    [[noreturn]] void fail(const std::string& what) const { throw InputError(file + ": " + what); }
+
+    static std::string child(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+    void object(const Json& j, const std::string& path, std::initializer_list<const char*> allowed) const {
+        if (!j.is_object())
+            fail(format("\"{}\" must be an object with keys {} (got {})", path, join(allowed), shown(j)));
+        for (const auto& item : j.items())
+            if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return item.key() == k; }))
+                fail(format("unknown key \"{}\" (allowed: {})", child(path, item.key()), join(allowed)));
+    }
+
+    double number(const Json& j, const std::string& path) const {
+        if (!j.is_number()) fail(format("\"{}\" must be a number (got {})", path, shown(j)));
+        const double v = j.get<double>();
+        if (!std::isfinite(v)) fail(format("\"{}\" must be a finite number (got {})", path, shown(j)));
+        return v;
+    }
+
+    // A number in [lo, hi] with either end open; `range` spells it out for the message.
+    double number(const Json& j, const std::string& path, double lo, bool loOpen, double hi, bool hiOpen) const {
+        const double v = number(j, path);
+        if (!(loOpen ? v > lo : v >= lo) || !(hiOpen ? v < hi : v <= hi)) {
+            const std::string range = std::isinf(hi) ? format("{} {}", loOpen ? ">" : ">=", lo)
+                                                     : format("in {}{}, {}{}", loOpen ? "(" : "[", lo, hi, hiOpen ? ")" : "]");
+            fail(format("\"{}\" must be {} (got {})", path, range, shown(j)));
+        }
+        return v;
+    }
+
+    int integer(const Json& j, const std::string& path, int lo, int hi) const {
+        if (!j.is_number_integer()) fail(format("\"{}\" must be an integer (got {})", path, shown(j)));
+        const bool inRange = j.is_number_unsigned()
+                                 ? j.get<std::uint64_t>() <= std::uint64_t(hi) && std::int64_t(j.get<std::uint64_t>()) >= lo
+                                 : j.get<std::int64_t>() >= lo && j.get<std::int64_t>() <= hi;
+        if (!inRange) fail(format("\"{}\" must be an integer in {}..{} (got {})", path, lo, hi, shown(j)));
+        return int(j.get<std::int64_t>());
+    }
+
+    std::string name(const Json& j, const std::string& path) const {
+        if (!j.is_string()) fail(format("\"{}\" must be a string (got {})", path, shown(j)));
+        std::string s = j.get<std::string>();
+        if (s.empty()) fail(format("\"{}\" must not be empty", path));
+        return s;
+    }
+
+    std::filesystem::path folderPath(const Json& j, const std::string& path) const {
+        const std::filesystem::path p(name(j, path));
+        return normalPath(p.is_absolute() ? p : folder / p);
+    }
+
+    glm::dvec3 vec3(const Json& j, const std::string& path) const {
+        if (!j.is_array() || j.size() != 3) fail(format("\"{}\" must be an array of three numbers [x, y, z] (got {})", path, shown(j)));
+        return {number(j[0], path + "[0]"), number(j[1], path + "[1]"), number(j[2], path + "[2]")};
+    }
+
+    const Json& required(const Json& object, const std::string& path, const char* key, const char* what) const {
+        const auto it = object.find(key);
+        if (it == object.end()) fail(format("\"{}\" is missing ({})", child(path, key), what));
+        return *it;
+    }
+};
+
+OceanSettings readOcean(const Reader& r, const Json& j) {
+    r.object(j, "ocean", {"level", "grid", "shore_depth"});
+    OceanSettings ocean;
+    if (j.contains("level")) ocean.level = r.number(j["level"], "ocean.level");
+    if (j.contains("grid")) {
+        const Json& g = j["grid"];
+        if (!g.is_array() || g.size() != 2)
+            r.fail(format("\"ocean.grid\" must be [columns, rows], two integers in {}..{} (got {})", kMinGrid, kMaxGrid, shown(g)));
+        ocean.columns = r.integer(g[0], "ocean.grid[0]", kMinGrid, kMaxGrid);
+        ocean.rows = r.integer(g[1], "ocean.grid[1]", kMinGrid, kMaxGrid);
+    }
+    if (j.contains("shore_depth"))
+        ocean.shoreDepth = r.number(j["shore_depth"], "ocean.shore_depth", 0.0, true, kInf, false);
+    return ocean;
+}
+
+DestructionInstance readDestruction(const Reader& r, const Json& j, const std::string& path) {
+    r.object(j, path, {"vat", "name", "position", "yaw_degrees", "start_time"});
+    DestructionInstance d;
+    d.vatDir = r.folderPath(r.required(j, path, "vat", "the folder written by `dawnforge vat`"), path + ".vat");
+    d.name = r.name(r.required(j, path, "name", "the VAT's name: <name>_data.json in the folder"), path + ".name");
+    if (j.contains("position")) d.position = r.vec3(j["position"], path + ".position");
+    if (j.contains("yaw_degrees")) d.yawDegrees = r.number(j["yaw_degrees"], path + ".yaw_degrees");
+    if (j.contains("start_time")) d.startTime = r.number(j["start_time"], path + ".start_time");
+    return d;
+}
+
+SceneCamera readCamera(const Reader& r, const Json& j, const std::string& path) {
+    r.object(j, path, {"name", "position", "target", "fov_degrees"});
+    SceneCamera c;
+    c.name = r.name(r.required(j, path, "name", "each camera has a name for --camera"), path + ".name");
+    if (j.contains("position")) c.position = r.vec3(j["position"], path + ".position");
+    if (j.contains("target")) c.target = r.vec3(j["target"], path + ".target");
+    if (j.contains("fov_degrees")) c.fovDegrees = r.number(j["fov_degrees"], path + ".fov_degrees", 1.0, true, 179.0, true);
+    if (c.position == c.target) r.fail(format("\"{}\": position and target are the same point, so the camera has no direction", path));
+    return c;
+}
+
+const Json& array(const Reader& r, const Json& j, const std::string& path, const char* what) {
+    if (!j.is_array()) r.fail(format("\"{}\" must be an array of {} (got {})", path, what, shown(j)));
+    return j;
+}
+
+nlohmann::ordered_json vec(const glm::dvec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+std::string relativePath(const std::filesystem::path& p, const std::filesystem::path& base) {
+    std::filesystem::path out = normalPath(p);
+    if (p.is_absolute() == base.is_absolute()) {
+        const std::filesystem::path r = out.lexically_relative(normalPath(base));
+        if (!r.empty()) out = r;
+    }
+    return out.generic_string();
+}
+
+}  // namespace
+
+SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& file) {
+    const Reader r{file.string(), file.parent_path()};
+    Json root;
+    try {
+        root = Json::parse(json);
+    } catch (const Json::exception& e) {
+        r.fail(format("not valid JSON: {}", oneLine(e.what())));
+    }
+    if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
+    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "destruction", "cameras"});
+    const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
+    if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
+    const Json& v = r.required(root, "", "version", "expected \"version\": 1");
+    if (!v.is_number_integer() || v != kVersion) r.fail(format("\"version\" is {}, expected {}", shown(v), kVersion));
+
+    SceneFile scene;
+    scene.file = file;
+    if (root.contains("city")) scene.cityDir = r.folderPath(root["city"], "city");
+    if (root.contains("time_of_day")) scene.timeOfDay = r.number(root["time_of_day"], "time_of_day", 0.0, false, 24.0, true);
+    if (root.contains("time")) scene.time = r.number(root["time"], "time", 0.0, false, kInf, false);
+    if (root.contains("fps")) scene.fps = r.number(root["fps"], "fps", 0.0, true, kInf, false);
+    if (root.contains("ocean") && !root["ocean"].is_null()) scene.ocean = readOcean(r, root["ocean"]);
+    if (root.contains("destruction")) {
+        const Json& list = array(r, root["destruction"], "destruction", "{\"vat\": ..., \"name\": ...} objects");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            scene.destruction.push_back(readDestruction(r, list[i], format("destruction[{}]", i)));
+    }
+    if (root.contains("cameras")) {
+        const Json& list = array(r, root["cameras"], "cameras", "{\"name\": ..., \"position\": ..., \"target\": ...} objects");
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            SceneCamera c = readCamera(r, list[i], format("cameras[{}]", i));
+            if (findCamera(scene, c.name))
+                r.fail(format("\"cameras[{}].name\": a camera named \"{}\" comes earlier; names must be unique", i, c.name));
+            scene.cameras.push_back(std::move(c));
+        }
+    }
+    return scene;
+}
+
+SceneFile loadSceneFile(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+        throw InputError(format("{}: no such file (expected a scene.json: {{\"format\": \"{}\", \"version\": {}, ...}})",
+                                file.string(), kFormat, kVersion));
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in) throw InputError(format("{}: cannot be read", file.string()));
+    SceneFile scene = parseSceneJson(std::move(text).str(), file);
+
+    const std::string source = file.string();
+    if (scene.cityDir) {
+        if (!std::filesystem::is_directory(*scene.cityDir, ec))
+            throw InputError(format("{}: \"city\": the folder {} does not exist (expected a folder written by `dawnforge city`)",
+                                    source, scene.cityDir->string()));
+        if (!std::filesystem::is_regular_file(*scene.cityDir / "city.glb", ec))
+            throw InputError(format("{}: \"city\": {} is missing (the city folder must hold city.glb from `dawnforge city`)",
+                                    source, (*scene.cityDir / "city.glb").string()));
+    }
+    for (std::size_t i = 0; i < scene.destruction.size(); ++i) {
+        const DestructionInstance& d = scene.destruction[i];
+        if (!std::filesystem::is_directory(d.vatDir, ec))
+            throw InputError(format("{}: \"destruction[{}].vat\": the folder {} does not exist (expected a folder written by "
+                                    "`dawnforge vat`)",
+                                    source, i, d.vatDir.string()));
+        if (!std::filesystem::is_regular_file(d.vatDir / (d.name + "_data.json"), ec))
+            throw InputError(format("{}: \"destruction[{}].name\": {} is missing (no VAT named \"{}\" in that folder)", source,
+                                    i, (d.vatDir / (d.name + "_data.json")).string(), d.name));
+    }
+    return scene;
+}
+
+std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& relativeTo) {
+    Json j;
+    j["format"] = kFormat;
+    j["version"] = kVersion;
+    if (scene.cityDir) j["city"] = relativePath(*scene.cityDir, relativeTo);
+    j["time_of_day"] = scene.timeOfDay;
+    j["time"] = scene.time;
+    j["fps"] = scene.fps;
+    if (scene.ocean)
+        j["ocean"] = {{"level", scene.ocean->level},
+                      {"grid", Json::array({scene.ocean->columns, scene.ocean->rows})},
+                      {"shore_depth", scene.ocean->shoreDepth}};
+    j["destruction"] = Json::array();
+    for (const DestructionInstance& d : scene.destruction)
+        j["destruction"].push_back({{"vat", relativePath(d.vatDir, relativeTo)},
+                                    {"name", d.name},
+                                    {"position", vec(d.position)},
+                                    {"yaw_degrees", d.yawDegrees},
+                                    {"start_time", d.startTime}});
+    j["cameras"] = Json::array();
+    for (const SceneCamera& c : scene.cameras)
+        j["cameras"].push_back(
+            {{"name", c.name}, {"position", vec(c.position)}, {"target", vec(c.target)}, {"fov_degrees", c.fovDegrees}});
+    return j.dump(2) + "\n";
+}
+
+const SceneCamera* findCamera(const SceneFile& scene, std::string_view name) {
+    for (const SceneCamera& c : scene.cameras)
+        if (c.name == name) return &c;
+    return nullptr;
+}
+
+}  // namespace dawnforge::runtime
