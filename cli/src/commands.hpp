@@ -96,6 +96,25 @@ int runCity(const CityOptions& options, const CommonOptions& common);
 void writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
                      const CommonOptions& common);
 
+struct RenderOptions {
+    std::filesystem::path sceneFile;
+    std::filesystem::path output;
+    std::string size = "1280x720";
+    std::string camera;                // empty: the scene's first camera, or an overview
+    std::optional<double> timeOfDay;   // hours; default: the scene's
+    std::optional<int> frame;          // time = frame / fps; default: the scene's time
+    bool stats = false;
+    int repeat = 5;                    // --stats: timed frames after one warm-up; the median is reported
+};
+int runRender(const RenderOptions& options, const CommonOptions& common);
+
+struct ViewOptions {
+    std::filesystem::path sceneFile;
+    std::string size = "1280x720";
+    std::string camera;
+};
+int runView(const ViewOptions& options, const CommonOptions& common);
+
 struct DemoOptions {
     std::filesystem::path outputDir;
     int floors = 8;

@@ -10,12 +10,55 @@
 #include <dawnforge/sim/rigidbody_io.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/core/progress.hpp>
+#include <dawnforge/exporters/image.hpp>
+#include <dawnforge/runtime/context.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/runtime/scene_file.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <dawnforge/core/format.hpp>
 
 namespace dawnforge::cli {
 
+
+namespace {
+
+// Where the promenade's quay is at x (the 15 m strip between the coastline and the water),
+// read from the city.json the demo just wrote.
+double quayZ(const std::filesystem::path& cityJson, double x) {
+    std::ifstream in(cityJson);
+    const nlohmann::json city = nlohmann::json::parse(in);
+    const auto& coast = city.at("coastline");
+    double y = coast.front()[1].get<double>();
+    for (std::size_t i = 1; i < coast.size(); ++i) {
+        const double x0 = coast[i - 1][0].get<double>(), x1 = coast[i][0].get<double>();
+        if (x >= x0 && x <= x1) {
+            const double t = (x - x0) / (x1 - x0);
+            y = (1.0 - t) * coast[i - 1][1].get<double>() + t * coast[i][1].get<double>();
+        }
+    }
+    return -(y - 7.5);  // plan y north → glTF z = −y; the middle of the quay
+}
+
+runtime::SceneFile demoScene(const std::filesystem::path& dir) {
+    runtime::SceneFile scene;
+    scene.cityDir = dir / "city";
+    scene.timeOfDay = 17.5;
+    scene.time = 2.4;  // the ball hits at 0.2 s: the tower is coming down
+    scene.fps = 30.0;
+    scene.ocean = runtime::OceanSettings{};
+    const double x = 160.0, z = quayZ(dir / "city" / "city.json", x);
+    scene.destruction.push_back({dir / "vat", "tower_native", glm::dvec3(x, 0.0, z), 0.0, 0.0});
+    scene.cameras.push_back({"harbour", glm::dvec3(x + 75.0, 22.0, z + 70.0), glm::dvec3(x - 10.0, 12.0, z - 25.0), 55.0});
+    scene.cameras.push_back({"overview", glm::dvec3(x + 200.0, 190.0, z + 160.0), glm::dvec3(x, 0.0, z - 90.0), 50.0});
+    scene.cameras.push_back({"street", glm::dvec3(x - 40.0, 2.0, z + 2.0), glm::dvec3(x, 12.0, z), 65.0});
+    return scene;
+}
+
+}  // namespace
 
 int runDemo(const DemoOptions& options, const CommonOptions& common) {
     ensureOutputDirectory(options.outputDir);
@@ -96,7 +139,30 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     }
     std::printf("wrote %s: tower_{native,unreal,unity}_{pos.exr,rot.exr,mesh.glb,data.json}\n",
                 (options.outputDir / "vat").string().c_str());
-    std::printf("not built yet: bake, render\n");
+
+    // The scene: the district, the tower standing on the quay and breaking, the sea, at
+    // half past five in the afternoon; then a picture of it.
+    const auto sceneFile = options.outputDir / "scene.json";
+    writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir), options.outputDir));
+    std::printf("wrote %s\n", sceneFile.string().c_str());
+    const runtime::SceneFile view = runtime::loadSceneFile(sceneFile);
+    const auto context = runtime::GlContext::headless();
+    runtime::RendererOptions ro;
+    runtime::Renderer renderer(view, ro);
+    runtime::FrameSettings frame;
+    frame.camera = runtime::Renderer::cameraOf(view.cameras.front());
+    frame.time = view.time;
+    frame.timeOfDay = view.timeOfDay;
+    runtime::FrameStats stats = renderer.render(frame);
+    const Image image = renderer.readPixels(&stats);
+    const auto picture = options.outputDir / "render.png";
+    writePng(image, picture);
+    std::printf("wrote %s: %dx%d at %.1f h, %.2f s into the scene (%s); %.0f ms for the first frame\n",
+                picture.string().c_str(), image.width, image.height, frame.timeOfDay, frame.time,
+                context->description().c_str(), stats.frameMs);
+    std::printf("next: dawnforge render %s -o frame.png --stats, or dawnforge view %s\n", sceneFile.string().c_str(),
+                sceneFile.string().c_str());
+    std::printf("not built yet: bake\n");
     return 0;
 }
 

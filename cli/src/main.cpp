@@ -23,8 +23,6 @@ struct PlannedCommand {
 // the whole tool, and they say plainly that they are not built yet.
 constexpr PlannedCommand kPlanned[] = {
     {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
-    {"render", "Render a scene headless to PNG (not built yet)"},
-    {"view", "Show a scene in a window (not built yet)"},
 };
 
 }  // namespace
@@ -164,6 +162,28 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 200))
         ->capture_default_str();
 
+    cli::RenderOptions render;
+    CLI::App* renderCmd = app.add_subcommand(
+        "render", "Render a scene file headless (EGL) to a PNG: the city, destruction VATs, the ocean, sky and sun");
+    renderCmd->add_option("SCENE", render.sceneFile, "Scene file (scene.json)")->required();
+    renderCmd->add_option("-o,--output", render.output, "PNG file to write")->required();
+    renderCmd->add_option("--size", render.size, "Image size WxH")->capture_default_str();
+    renderCmd->add_option("--camera", render.camera, "Named camera of the scene (default: its first, or an overview)");
+    renderCmd->add_option("--time-of-day", render.timeOfDay, "Hours, 0 to 24 (default: the scene's)");
+    renderCmd->add_option("--frame", render.frame, "Frame number: scene time = frame / fps (default: the scene's time)")
+        ->check(CLI::NonNegativeNumber);
+    renderCmd->add_flag("--stats", render.stats, "Print per-pass GPU and CPU times as JSON on stdout");
+    renderCmd->add_option("--repeat", render.repeat, "With --stats: timed frames after a warm-up (median reported)")
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+
+    cli::ViewOptions view;
+    CLI::App* viewCmd = app.add_subcommand(
+        "view", "Show a scene file in a window: drag to look, WASD/QE to fly (shift: faster), 1-9 cameras, "
+                "[ ] time of day, R restart the destruction, Esc quit");
+    viewCmd->add_option("SCENE", view.sceneFile, "Scene file (scene.json)")->required();
+    viewCmd->add_option("--size", view.size, "Window size WxH")->capture_default_str();
+    viewCmd->add_option("--camera", view.camera, "Named camera to start from");
+
     std::vector<CLI::App*> planned;
     for (const PlannedCommand& p : kPlanned) {
         CLI::App* cmd = app.add_subcommand(p.name, p.summary);
@@ -195,6 +215,8 @@ int main(int argc, char** argv) {
         if (simulateCmd->parsed()) return cli::runSimulate(sim, common);
         if (vatCmd->parsed()) return cli::runVat(vat, common);
         if (demoCmd->parsed()) return cli::runDemo(demo, common);
+        if (renderCmd->parsed()) return cli::runRender(render, common);
+        if (viewCmd->parsed()) return cli::runView(view, common);
         for (CLI::App* cmd : planned)
             if (cmd->parsed()) {
                 std::fprintf(stderr, "dawnforge %s: not built yet\n", cmd->get_name().c_str());

@@ -4,12 +4,16 @@
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
+#include <dawnforge/exporters/image.hpp>
+#include <dawnforge/exporters/vat.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <cstring>
 #include <map>
+#include <set>
 
 using namespace dawnforge;
 using dawnforge::test::RunResult;
@@ -40,8 +44,7 @@ TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
 }
 
 TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
-    for (const char* cmd : {"bake", "render", "view"})
-        expectBadInput({cmd, "-o", "x"}, "not built yet");
+    expectBadInput({"bake", "-o", "x"}, "not built yet");
 }
 
 TEST(Cli, UnknownOptionsAndCommandsAreBadInput) {
@@ -128,6 +131,13 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
     EXPECT_EQ(glbA, test::readBytes(dir / "b" / "scene.glb"));
     const RunResult v = test::validateGltf(dir / "a" / "scene.glb");
     EXPECT_EQ(v.exitCode, 0) << v.out;
+    // The demo ends with a picture of its scene, the same each time.
+    EXPECT_NE(a.out.find("render.png"), std::string::npos);
+    const Image picture = readPng(dir / "a" / "render.png");
+    EXPECT_EQ(picture.width, 1280);
+    EXPECT_EQ(picture.height, 720);
+    EXPECT_EQ(test::readBytes(dir / "a" / "render.png"), test::readBytes(dir / "b" / "render.png"));
+    EXPECT_EQ(test::readText(dir / "a" / "scene.json"), test::readText(dir / "b" / "scene.json"));
 }
 
 TEST(Cli, DemoBadOptionsExit2) {
@@ -447,4 +457,132 @@ TEST(CliCity, BadOptionsAndRecipesExit2AndWriteNothing) {
     test::writeText(dir / "broken.json", "{ \"streets\": ");
     expectBadInput({"city", "-o", out, "--recipe", (dir / "broken.json").string()}, "broken.json");
     EXPECT_EQ(dir.entries(), (std::vector<std::string>{"broken.json", "unknown.json", "zero.json"}));
+}
+
+namespace {
+
+// A small city, a VAT of two boxes and a scene.json naming both, with a camera.
+struct RenderFixture {
+    TempDir dir;
+    std::filesystem::path scene = dir / "scene.json";
+    RenderFixture() {
+        const RunResult city = test::runDawnforge({"--quiet", "city", "-o", (dir / "city").string(), "--size", "160x160"});
+        EXPECT_EQ(city.exitCode, 0) << city.err;
+        writeBoxesVat(dir / "vat", "boxes", 2);
+        writeScene(R"("city": "city", "time_of_day": 12, "time": 0.5,
+                      "ocean": {"level": -0.8, "grid": [64, 48]},
+                      "destruction": [{"vat": "vat", "name": "boxes", "position": [80, 0, -80], "start_time": 0}],
+                      "cameras": [{"name": "high", "position": [200, 90, 60], "target": [80, 0, -80]},
+                                  {"name": "low", "position": [40, 5, -20], "target": [80, 5, -80], "fov_degrees": 70}])");
+    }
+    void writeScene(const std::string& body) const {
+        test::writeText(scene, R"({"format": "dawnforge.scene", "version": 1, )" + body + "}");
+    }
+    // `pieces` boxes falling for 10 frames.
+    static void writeBoxesVat(const std::filesystem::path& dir, const std::string& name, int pieces) {
+        std::vector<Mesh> meshes;
+        std::vector<float> transforms;
+        for (int j = 0; j < pieces; ++j) meshes.push_back(makeBox({-1, -1, -1}, {1, 1, 1}, 3));
+        for (int k = 0; k < 10; ++k)
+            for (int j = 0; j < pieces; ++j) {
+                const float piece[7] = {3.0f * float(j), 5.0f - 0.2f * float(k), 0, 0, 0, 0, 1};
+                transforms.insert(transforms.end(), piece, piece + 7);
+            }
+        VatSettings settings;
+        settings.name = name;
+        writeVat(encodeVat({meshes, transforms, 10, 30.0}, settings), settings, dir);
+    }
+    RunResult render(std::vector<std::string> extra) const {
+        std::vector<std::string> args{"render", scene.string(), "-o", (dir / "out.png").string(), "--size", "128x96"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return test::runDawnforge(args);
+    }
+};
+
+}  // namespace
+
+TEST(CliRender, WritesThePictureAndItsPassTimes) {
+    RenderFixture f;
+    const RunResult r = f.render({"--stats", "--repeat", "1"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const nlohmann::json stats = nlohmann::json::parse(r.out);
+    EXPECT_EQ(stats["size"][0], 128);
+    std::vector<std::string> passes;
+    for (const auto& p : stats["passes"]) {
+        passes.push_back(p["name"]);
+        EXPECT_GE(p["cpu_ms"].get<double>(), 0.0);
+    }
+    EXPECT_EQ(passes, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "tonemap", "readback"}));
+    EXPECT_EQ(stats["ocean_vertices"], 64 * 48);
+    EXPECT_GT(stats["triangles"].get<int>(), 1000);
+    const Image image = readPng(f.dir / "out.png");
+    ASSERT_EQ(image.width, 128);
+    ASSERT_EQ(image.height, 96);
+    std::set<std::uint32_t> colours;
+    for (std::size_t p = 0; p < image.rgba.size(); p += 4)
+        colours.insert(std::uint32_t(image.rgba[p]) << 16 | std::uint32_t(image.rgba[p + 1]) << 8 | image.rgba[p + 2]);
+    EXPECT_GT(colours.size(), 500u) << "a picture, not a flat colour";
+}
+
+TEST(CliRender, SameSceneSameBytesOnAnyThreadCount) {
+    RenderFixture f;
+    std::vector<std::vector<unsigned char>> images;
+    for (const char* threads : {"1", "3"}) {
+        setenv("LP_NUM_THREADS", threads, 1);
+        const RunResult r = f.render({"--camera", "low"});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        images.push_back(test::readBytes(f.dir / "out.png"));
+    }
+    unsetenv("LP_NUM_THREADS");
+    EXPECT_EQ(images[0], images[1]);
+}
+
+TEST(CliRender, TimeOfDayCameraAndFrameChangeThePicture) {
+    RenderFixture f;
+    const auto mean = [&](std::vector<std::string> extra) {
+        const RunResult r = f.render(extra);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        const Image image = readPng(f.dir / "out.png");
+        double sum = 0.0;
+        for (std::uint8_t v : image.rgba) sum += v;
+        return std::pair{sum / double(image.rgba.size()), test::readBytes(f.dir / "out.png")};
+    };
+    const auto noon = mean({"--time-of-day", "12"}), night = mean({"--time-of-day", "23"});
+    EXPECT_LT(night.first, 0.6 * noon.first);
+    EXPECT_NE(mean({"--camera", "low"}).second, noon.second);
+    EXPECT_NE(mean({"--camera", "low", "--frame", "9"}).second, mean({"--camera", "low", "--frame", "0"}).second);
+}
+
+TEST(CliRender, BadScenesExit2WithOneLine) {
+    RenderFixture f;
+    const auto out = (f.dir / "out.png").string();
+    expectBadInput({"render", (f.dir / "none.json").string(), "-o", out}, "none.json");
+    expectBadInput({"render", f.scene.string(), "-o", (f.dir / "out.jpg").string()}, ".png");
+    expectBadInput({"render", f.scene.string(), "-o", out, "--size", "12x"}, "--size");
+    expectBadInput({"render", f.scene.string(), "-o", out, "--camera", "drone"}, "drone");
+    expectBadInput({"render", f.scene.string(), "-o", out, "--time-of-day", "25"}, "--time-of-day");
+    f.writeScene(R"("city": "city", "ocean": {"heigth": 2})");
+    expectBadInput({"render", f.scene.string(), "-o", out}, "ocean.heigth");
+    f.writeScene(R"("city": "town")");
+    expectBadInput({"render", f.scene.string(), "-o", out}, "town");
+    f.writeScene(R"("destruction": [{"vat": "missing", "name": "boxes"}])");
+    expectBadInput({"render", f.scene.string(), "-o", out}, "missing");
+    // A VAT whose mesh has three pieces where its textures have two.
+    RenderFixture::writeBoxesVat(f.dir / "other", "boxes", 3);
+    std::filesystem::copy_file(f.dir / "other" / "boxes_mesh.glb", f.dir / "vat" / "boxes_mesh.glb",
+                               std::filesystem::copy_options::overwrite_existing);
+    f.writeScene(R"("destruction": [{"vat": "vat", "name": "boxes"}])");
+    expectBadInput({"render", f.scene.string(), "-o", out}, "boxes_mesh.glb");
+    // A VAT for an engine, not for the runtime.
+    VatSettings unity;
+    unity.preset = VatPreset::Unity;
+    unity.name = "crate";
+    {
+        std::vector<Mesh> meshes{makeBox({-1, -1, -1}, {1, 1, 1}, 3)};
+        const std::vector<float> transforms{0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1};
+        writeVat(encodeVat({meshes, transforms, 2, 30.0}, unity), unity, f.dir / "vat");
+    }
+    f.writeScene(R"("destruction": [{"vat": "vat", "name": "crate"}])");
+    expectBadInput({"render", f.scene.string(), "-o", out}, "native");
+    EXPECT_FALSE(std::filesystem::exists(out)) << "nothing written on bad input";
 }
