@@ -1,6 +1,7 @@
 // Perspective interior mapping: the CPU reference of runtime/shaders/interior.glsl and the
 // generator of its room pictures and middle-layer cut-outs. Technique: "Perspective Interior
 // Mapping" / "Extended Perspective Interior Mapping" (Undawn, GDC 2024).
+#include <dawnforge/core/error.hpp>
 #include <dawnforge/runtime/interior.hpp>
 
 #include <algorithm>
@@ -12,14 +13,6 @@
 
 namespace dawnforge::runtime {
 namespace {
-
-// A programmer's mistake (STYLE.md 5). Local rather than DAWNFORGE_ASSERT so that this file
-// builds and tests on its own, without core's sources.
-void require(bool condition, const char* function, const char* message) {
-    if (condition) return;
-    std::fprintf(stderr, "dawnforge::runtime::%s: %s\n", function, message);
-    std::abort();
-}
 
 // lowbias32 (Chris Wellons' hash-prospector): a 32-bit mix GLSL 4.50 can reproduce exactly.
 constexpr std::uint32_t lowbias32(std::uint32_t x) {
@@ -352,11 +345,10 @@ dvec3 roomRay(dvec3 viewDir, dvec3 normal, dvec3 roomSize) {
 }
 
 RoomHit roomExit(dvec3 origin, dvec3 direction) {
-    require(direction.z > 0.0, "roomExit()", "the direction must point into the room (z > 0)");
+    DAWNFORGE_ASSERT(direction.z > 0.0, "the direction must point into the room (z > 0)");
     constexpr double kSlack = 1e-12;
-    require(origin.x >= -kSlack && origin.x <= 1.0 + kSlack && origin.y >= -kSlack && origin.y <= 1.0 + kSlack &&
-                origin.z >= -kSlack && origin.z < 1.0,
-            "roomExit()", "the origin must lie in the room box [0,1]^3, short of the back wall");
+    DAWNFORGE_ASSERT(origin.x >= -kSlack && origin.x <= 1.0 + kSlack && origin.y >= -kSlack && origin.y <= 1.0 + kSlack &&
+                origin.z >= -kSlack && origin.z < 1.0, "the origin must lie in the room box [0,1]^3, short of the back wall");
     double best = std::numeric_limits<double>::infinity();
     int axis = 2;
     for (int i = 0; i < 3; ++i) {
@@ -375,13 +367,13 @@ RoomHit roomExit(dvec3 origin, dvec3 direction) {
 }
 
 glm::dvec2 roomTextureUv(dvec3 roomPoint, double backShare) {
-    require(backShare > 0.0 && backShare < 1.0, "roomTextureUv()", "the back wall's share must lie in (0, 1)");
+    DAWNFORGE_ASSERT(backShare > 0.0 && backShare < 1.0, "the back wall's share must lie in (0, 1)");
     const double s = 1.0 / (1.0 + roomPoint.z * (1.0 / backShare - 1.0));
     return 0.5 + (dvec2(roomPoint) - 0.5) * s;
 }
 
 RoomHit roomPointAtUv(dvec2 uv, double backShare) {
-    require(backShare > 0.0 && backShare < 1.0, "roomPointAtUv()", "the back wall's share must lie in (0, 1)");
+    DAWNFORGE_ASSERT(backShare > 0.0 && backShare < 1.0, "the back wall's share must lie in (0, 1)");
     const dvec2 q = glm::clamp(uv, dvec2(0.0), dvec2(1.0)) - 0.5;
     // s(z) is the picture's scale at depth z: the point's square ring in the picture has half-side s/2.
     const double s = 2.0 * std::max(std::abs(q.x), std::abs(q.y));
@@ -411,14 +403,14 @@ std::optional<dvec3> middleLayerHit(dvec3 origin, dvec3 direction, double depth)
 }
 
 int roomStyle(std::uint32_t building, std::uint32_t room, int styles) {
-    require(styles > 0, "roomStyle()", "there must be at least one style");
+    DAWNFORGE_ASSERT(styles > 0, "there must be at least one style");
     const std::uint32_t h = lowbias32(building ^ lowbias32(room + 0x9e3779b9u));
     return static_cast<int>(h % static_cast<std::uint32_t>(styles));
 }
 
 InteriorTextures generateInteriors(int roomSize, int styles) {
-    require(roomSize >= 16 && (roomSize & (roomSize - 1)) == 0, "generateInteriors()", "roomSize must be a power of two >= 16");
-    require(styles >= 1, "generateInteriors()", "there must be at least one style");
+    DAWNFORGE_ASSERT(roomSize >= 16 && (roomSize & (roomSize - 1)) == 0, "roomSize must be a power of two >= 16");
+    DAWNFORGE_ASSERT(styles >= 1, "there must be at least one style");
     InteriorTextures out;
     out.roomSize = roomSize;
     out.styles = styles;

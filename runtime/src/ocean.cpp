@@ -1,6 +1,8 @@
 // Gerstner waves, wave noise, buoyancy queries and the projected grid (see ocean.hpp for
 // the sources). Mirrored in single precision by runtime/shaders/ocean_waves.glsl: a change
 // to the maths here must be made there too.
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/seed.hpp>
 #include <dawnforge/runtime/ocean.hpp>
 
 #include <glm/geometric.hpp>
@@ -17,22 +19,6 @@
 namespace dawnforge::runtime {
 
 namespace {
-
-// A programmer's mistake (STYLE.md 5). Kept local so that this file builds without linking
-// dawnforge::core; the message follows DAWNFORGE_ASSERT's form.
-void require(bool condition, const char* function, const char* message) {
-    if (condition) return;
-    std::fprintf(stderr, "runtime::%s(): %s\n", function, message);
-    std::abort();
-}
-
-// SplitMix64 finaliser: a bijective 64-bit mix (as dawnforge::mix64).
-std::uint64_t mix(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-}
 
 // Everything one evaluation of the waves gives: the offset and the derivatives of the
 // displaced point P with respect to the plane point (x, z).
@@ -66,9 +52,9 @@ double horizontalJacobian(const WaveEval& e) { return e.dPdx.x * e.dPdz.z - e.dP
 
 // Lattice value in [0, 1) for one channel, octave and (wrapped) lattice point.
 double latticeValue(std::uint64_t channelSeed, int octave, int ix, int iy) {
-    std::uint64_t h = mix(channelSeed ^ mix(static_cast<std::uint64_t>(octave) + 0x100));
-    h = mix(h ^ static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)));
-    h = mix(h ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(iy)) << 32));
+    std::uint64_t h = mix64(channelSeed ^ mix64(static_cast<std::uint64_t>(octave) + 0x100));
+    h = mix64(h ^ static_cast<std::uint64_t>(static_cast<std::uint32_t>(ix)));
+    h = mix64(h ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(iy)) << 32));
     return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
@@ -125,7 +111,7 @@ WaveSample gerstner(const WaveSet& waves, glm::dvec2 x0, double t, double attenu
 }
 
 WaveNoise makeWaveNoise(int size, std::uint64_t seed) {
-    require(size >= 1, "makeWaveNoise", "size must be at least 1");
+    DAWNFORGE_ASSERT(size >= 1, "size must be at least 1");
     // Three octaves of periodic value noise; the lattice wraps every `cells` points, and
     // one lattice period spans the whole texture, so the texture tiles.
     constexpr std::array<double, 3> octaveWeights{0.6, 0.3, 0.1};
@@ -135,7 +121,7 @@ WaveNoise makeWaveNoise(int size, std::uint64_t seed) {
     noise.rgba.assign(static_cast<std::size_t>(size) * size * 4, 0.0f);
     std::vector<double> values(static_cast<std::size_t>(size) * size);
     for (int channel = 0; channel < 4; ++channel) {
-        const std::uint64_t channelSeed = mix(seed ^ mix(0xC0FFEEull + static_cast<std::uint64_t>(channel)));
+        const std::uint64_t channelSeed = mix64(seed ^ mix64(0xC0FFEEull + static_cast<std::uint64_t>(channel)));
         for (int j = 0; j < size; ++j) {
             for (int i = 0; i < size; ++i) {
                 double v = 0.0;
@@ -165,9 +151,8 @@ WaveNoise makeWaveNoise(int size, std::uint64_t seed) {
 }
 
 double sampleNoise(const WaveNoise& noise, glm::dvec2 uv, int channel) {
-    require(noise.size >= 1 && noise.rgba.size() == static_cast<std::size_t>(noise.size) * noise.size * 4,
-            "sampleNoise", "the noise texture is empty or of the wrong size");
-    require(channel >= 0 && channel < 4, "sampleNoise", "channel must be 0..3");
+    DAWNFORGE_ASSERT(noise.size >= 1 && noise.rgba.size() == static_cast<std::size_t>(noise.size) * noise.size * 4, "the noise texture is empty or of the wrong size");
+    DAWNFORGE_ASSERT(channel >= 0 && channel < 4, "channel must be 0..3");
     const int n = noise.size;
     const double sx = uv.x * n - 0.5, sy = uv.y * n - 0.5;
     const double fx0 = std::floor(sx), fy0 = std::floor(sy);
@@ -237,9 +222,8 @@ glm::dmat4 OceanCamera::projection() const { return glm::perspective(fovYRadians
 
 OceanGrid projectOceanGrid(const OceanCamera& camera, double level, int columns, int rows, double maxDistance,
                            double minHeight) {
-    require(columns >= 2 && rows >= 2, "projectOceanGrid", "columns and rows must be at least 2");
-    require(camera.nearPlane > 0.0 && camera.farPlane > camera.nearPlane, "projectOceanGrid",
-            "the camera needs 0 < near < far");
+    DAWNFORGE_ASSERT(columns >= 2 && rows >= 2, "columns and rows must be at least 2");
+    DAWNFORGE_ASSERT(camera.nearPlane > 0.0 && camera.farPlane > camera.nearPlane, "the camera needs 0 < near < far");
     OceanGrid grid;
     grid.columns = columns;
     grid.rows = rows;
@@ -248,7 +232,7 @@ OceanGrid projectOceanGrid(const OceanCamera& camera, double level, int columns,
 
     const glm::dvec3 f = glm::normalize(camera.forward);
     const double sinP = f.y, cosP = std::sqrt(std::max(0.0, 1.0 - f.y * f.y));
-    require(cosP > 1e-9, "projectOceanGrid", "the camera must not look straight up or down");
+    DAWNFORGE_ASSERT(cosP > 1e-9, "the camera must not look straight up or down");
     const double h = camera.position.y - level;
     if (!(h > 0.0)) return grid;  // at or below the water: the plane is seen edge-on or from below
 
@@ -286,8 +270,7 @@ OceanGrid projectOceanGrid(const OceanCamera& camera, double level, int columns,
 }
 
 glm::dvec2 oceanGridNdc(const OceanGrid& grid, int column, int row) {
-    require(column >= 0 && column < grid.columns && row >= 0 && row < static_cast<int>(grid.rowNdcY.size()),
-            "oceanGridNdc", "vertex outside the grid (or the grid is not visible)");
+    DAWNFORGE_ASSERT(column >= 0 && column < grid.columns && row >= 0 && row < static_cast<int>(grid.rowNdcY.size()), "vertex outside the grid (or the grid is not visible)");
     return {-1.0 + 2.0 * column / (grid.columns - 1), grid.rowNdcY[static_cast<std::size_t>(row)]};
 }
 
@@ -316,7 +299,7 @@ std::vector<float> oceanGridNdcBuffer(const OceanGrid& grid) {
 }
 
 std::vector<std::uint32_t> oceanGridIndices(int columns, int rows) {
-    require(columns >= 2 && rows >= 2, "oceanGridIndices", "columns and rows must be at least 2");
+    DAWNFORGE_ASSERT(columns >= 2 && rows >= 2, "columns and rows must be at least 2");
     std::vector<std::uint32_t> indices;
     indices.reserve(static_cast<std::size_t>(columns - 1) * (rows - 1) * 6);
     for (int r = 0; r + 1 < rows; ++r) {

@@ -89,7 +89,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
         glTextureSubImage2D(atlas_.id(), l, 0, 0, atlas.size >> l, atlas.size >> l, GL_RGBA, GL_UNSIGNED_BYTE,
                             atlas.rgba[std::size_t(l)].data());
 
-    const InteriorTextures interiors = generateInteriors();
+    const InteriorTextures interiors = generateInteriors(128, 8);  // 128² per room style: windows are small on screen
     roomStyles_ = interiors.styles;
     const int w = interiors.roomSize * interiors.styles, h = interiors.roomSize;
     for (auto [texture, pixels] : {std::pair{&rooms_, &interiors.rooms}, std::pair{&roomMiddle_, &interiors.middle}}) {
