@@ -5,7 +5,7 @@ layout(std140, binding = 0) uniform Frame {
     mat4 lightViewProj;
     vec4 cameraPos;    // xyz; w = scene time (s)
     vec4 sunDir;       // xyz towards the sun; w = night (0 day, 1 night)
-    vec4 sunColor;     // linear rgb
+    vec4 sunColor;     // linear rgb; w = shadow depth bias (0.2 m in the light's depth units)
     vec4 skyZenith;
     vec4 skyHorizon;
     vec4 groundColor;
@@ -42,7 +42,7 @@ float sunShadow(vec3 worldPos, vec3 normal) {
     float sum = 0.0;
     for (int i = 0; i < 4; ++i) {
         vec2 o = (vec2(i & 1, i >> 1) - 0.5) * texel;
-        sum += texture(shadowMap, vec3(q.xy + o, q.z - 0.0015));
+        sum += texture(shadowMap, vec3(q.xy + o, q.z - frame.sunColor.w));
     }
     return sum * 0.25;
 }

@@ -20,11 +20,12 @@ vec3 fog(vec3 color, vec3 viewDir, float distance) {
 }
 
 void main() {
-    vec3 n = normalize(vNormal);
-    if (!gl_FrontFacing) n = -n;
     vec3 toFragment = vWorld - frame.cameraPos.xyz;
     float distance = length(toFragment);
     vec3 V = toFragment / max(distance, 1e-6);
+    // Faces seen from behind (interior walls, thin parts) are lit from the side we see.
+    vec3 n = normalize(vNormal);
+    if (dot(n, V) > 0.0) n = -n;
     float night = frame.sunDir.w;
     vec3 color;
     if (vMaterial == kGlass) {

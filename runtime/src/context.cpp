@@ -32,15 +32,19 @@ public:
     EglContext() {
         // Mesa's surfaceless platform first (llvmpipe in CI, any Mesa GPU); then an EGL
         // device (the NVIDIA driver), then the default display.
+        const auto initialised = [](EGLDisplay d) { return d != EGL_NO_DISPLAY && eglInitialize(d, nullptr, nullptr); };
         if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
             display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-        if ((display_ == EGL_NO_DISPLAY || !eglInitialize(display_, nullptr, nullptr)) &&
-            epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration")) {
-            EGLDeviceEXT devices[8];
-            EGLint count = 0;
-            if (eglQueryDevicesEXT(8, devices, &count) && count > 0)
-                display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
-            if (display_ != EGL_NO_DISPLAY && !eglInitialize(display_, nullptr, nullptr)) display_ = EGL_NO_DISPLAY;
+        if (!initialised(display_)) {
+            display_ = EGL_NO_DISPLAY;
+            if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration")) {
+                EGLDeviceEXT devices[8];
+                EGLint count = 0;
+                if (eglQueryDevicesEXT(8, devices, &count) && count > 0)
+                    display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+            }
+            if (!initialised(display_)) display_ = eglGetDisplay(EGL_DEFAULT_DISPLAY);
+            if (!initialised(display_)) display_ = EGL_NO_DISPLAY;
         }
         if (display_ == EGL_NO_DISPLAY) fail("no EGL display (install Mesa's libegl-mesa0 and libgl1-mesa-dri)");
         if (!eglBindAPI(EGL_OPENGL_API)) fail("EGL cannot bind the desktop OpenGL API");
@@ -51,7 +55,7 @@ public:
         const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
                                             EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
         context_ = eglCreateContext(display_, config, EGL_NO_CONTEXT, contextAttributes);
-        if (context_ == EGL_NO_CONTEXT) fail(format("EGL refused an OpenGL 4.5 core context (error 0x{})", eglGetError()));
+        if (context_ == EGL_NO_CONTEXT) fail(format("EGL refused an OpenGL 4.5 core context (EGL error {})", eglGetError()));
         if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) fail("EGL cannot make the context current");
     }
     ~EglContext() override {

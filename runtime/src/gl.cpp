@@ -104,7 +104,7 @@ Program makeComputeProgram(const std::string& compute, const std::vector<std::st
 
 void check(const char* where) {
     const GLenum e = glGetError();
-    if (e != GL_NO_ERROR) throw std::logic_error(format("OpenGL error 0x{} in {}", e, where));
+    if (e != GL_NO_ERROR) throw std::logic_error(format("OpenGL error {} in {}", e, where));
 }
 
 }  // namespace dawnforge::runtime::gl

@@ -50,6 +50,7 @@ std::vector<GpuWaveSample> gpuWaves(const WaveSet& waves, const WaveNoise& noise
 }
 
 std::vector<glm::dvec3> gpuGridVertices(const OceanGrid& grid) {
+    if (!grid.visible) return {};
     std::vector<glm::vec4> inputs;
     for (int r = 0; r < grid.rows; ++r)
         for (int c = 0; c < grid.columns; ++c)

@@ -160,7 +160,7 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
                 buildings_.push_back(b);
             }
             Building& b = buildings_[it->second];
-            (lod0 ? b.lod0 : b.lod1) = append(node, b.min, b.max);
+            (lod0 ? b.lod0 : b.lod1) = append(node, lo, hi);
             b.min = glm::min(b.min, lo), b.max = glm::max(b.max, hi);
         } else {
             Static s;
@@ -177,7 +177,6 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
         if (b.lod0.count == 0) b.lod0 = b.lod1;
         if (b.lod1.count == 0) b.lod1 = b.lod0;
     }
-    if (vertices.empty()) throw InputError(format("{}: no meshes to draw", file.string()));
     vertices_ = gl::makeBuffer(vertices);
     indices_ = gl::makeBuffer(indices);
     instances_ = gl::makeBuffer(instances);
@@ -317,7 +316,7 @@ void SceneGpu::setCamera(glm::dvec3 position, glm::dvec3 forward, double fovY, d
 // The sun's orthographic camera, fitted around the scene's bounding sphere.
 glm::mat4 SceneGpu::lightViewProj(glm::dvec3 sunDirection) {
     const glm::vec3 centre(0.5 * (boundsMin_ + boundsMax_));
-    const float radius = std::max(0.5f * float(glm::length(boundsMax_ - boundsMin_)), 1.0f);
+    const float radius = float(sceneRadius());
     const glm::vec3 dir = glm::normalize(glm::vec3(sunDirection));
     const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     const glm::mat4 view = glm::lookAt(centre + dir * 2.0f * radius, centre, up);

@@ -44,6 +44,9 @@ public:
     glm::dvec3 boundsMax() const { return boundsMax_; }
     void setCamera(glm::dvec3 position, glm::dvec3 forward, double fovY, double aspect, double nearPlane, double farPlane);
     glm::mat4 lightViewProj(glm::dvec3 sunDirection);
+    // Shadow-map depth units per metre along the light (its depth range is 3 × the scene's radius).
+    double shadowDepthPerMetre() const { return 1.0 / (3.0 * sceneRadius()); }
+    double sceneRadius() const { return std::max(0.5 * glm::length(boundsMax_ - boundsMin_), 1.0); }
     glm::vec4 overlookArea() const { return overlookArea_; }
     glm::vec4 overlookDepthRange() const { return overlookDepth_; }
     double overlookMs() const { return overlookMs_; }

@@ -557,6 +557,7 @@ TEST(CliRender, BadScenesExit2WithOneLine) {
     RenderFixture f;
     const auto out = (f.dir / "out.png").string();
     expectBadInput({"render", (f.dir / "none.json").string(), "-o", out}, "none.json");
+    expectBadInput({"view", (f.dir / "none.json").string()}, "none.json");  // refused before any window opens
     expectBadInput({"render", f.scene.string(), "-o", (f.dir / "out.jpg").string()}, ".png");
     expectBadInput({"render", f.scene.string(), "-o", out, "--size", "12x"}, "--size");
     expectBadInput({"render", f.scene.string(), "-o", out, "--camera", "drone"}, "drone");
