@@ -9,7 +9,10 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <vector>
 
@@ -31,21 +34,30 @@ class EglContext final : public GlContext {
 public:
     EglContext() {
         // Mesa's surfaceless platform first (llvmpipe in CI, any Mesa GPU); then an EGL
-        // device (the NVIDIA driver), then the default display.
+        // device (the NVIDIA driver), then the default display. DAWNFORGE_EGL_DEVICE=N asks
+        // for EGL device N first (a GPU on a machine that also has Mesa).
         const auto initialised = [](EGLDisplay d) { return d != EGL_NO_DISPLAY && eglInitialize(d, nullptr, nullptr); };
-        if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-            display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-        if (!initialised(display_)) {
-            display_ = EGL_NO_DISPLAY;
-            if (epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration")) {
-                EGLDeviceEXT devices[8];
-                EGLint count = 0;
-                if (eglQueryDevicesEXT(8, devices, &count) && count > 0)
-                    display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
-            }
-            if (!initialised(display_)) display_ = eglGetDisplay(EGL_DEFAULT_DISPLAY);
-            if (!initialised(display_)) display_ = EGL_NO_DISPLAY;
-        }
+        const auto device = [](int index) {
+            if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration")) return EGLDisplay(EGL_NO_DISPLAY);
+            EGLDeviceEXT devices[16];
+            EGLint count = 0;
+            if (!eglQueryDevicesEXT(16, devices, &count) || index >= count) return EGLDisplay(EGL_NO_DISPLAY);
+            return eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
+        };
+        const auto surfaceless = [] {
+            return epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless")
+                       ? eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr)
+                       : EGLDisplay(EGL_NO_DISPLAY);
+        };
+        std::vector<std::function<EGLDisplay()>> candidates;
+        if (const char* wanted = std::getenv("DAWNFORGE_EGL_DEVICE"))
+            candidates.push_back([&device, index = std::max(0, std::atoi(wanted))] { return device(index); });
+        candidates.push_back(surfaceless);
+        candidates.push_back([&device] { return device(0); });
+        candidates.push_back([] { return eglGetDisplay(EGL_DEFAULT_DISPLAY); });
+        for (const auto& candidate : candidates)
+            if (initialised(display_ = candidate())) break;
+            else display_ = EGL_NO_DISPLAY;
         if (display_ == EGL_NO_DISPLAY) fail("no EGL display (install Mesa's libegl-mesa0 and libgl1-mesa-dri)");
         if (!eglBindAPI(EGL_OPENGL_API)) fail("EGL cannot bind the desktop OpenGL API");
         const EGLint configAttributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
