@@ -112,6 +112,7 @@ struct ViewOptions {
     std::filesystem::path sceneFile;
     std::string size = "1280x720";
     std::string camera;
+    int frames = 0;  // > 0: close after this many frames (smoke tests, timing the window path)
 };
 int runView(const ViewOptions& options, const CommonOptions& common);
 

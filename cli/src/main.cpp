@@ -183,6 +183,8 @@ int main(int argc, char** argv) {
     viewCmd->add_option("SCENE", view.sceneFile, "Scene file (scene.json)")->required();
     viewCmd->add_option("--size", view.size, "Window size WxH")->capture_default_str();
     viewCmd->add_option("--camera", view.camera, "Named camera to start from");
+    viewCmd->add_option("--frames", view.frames, "Close after this many frames (0: when the window is closed)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
 
     std::vector<CLI::App*> planned;
     for (const PlannedCommand& p : kPlanned) {

@@ -103,7 +103,6 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
 }
 
 int runView(const ViewOptions& options, const CommonOptions& common) {
-    (void)common;
     const glm::ivec2 size = parseImageSize(options.size);
     const runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
     const auto window = runtime::GlContext::window(size, "dawnforge view: " + options.sceneFile.string());
@@ -117,9 +116,10 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
     double pitch = std::asin(std::clamp(glm::normalize(frame.camera.forward).y, -1.0, 1.0));
     const auto start = std::chrono::steady_clock::now();
     auto last = start, restartAt = start;
+    int drawn = 0;
     for (;;) {
         const runtime::WindowInput in = window->poll();
-        if (in.closeRequested) break;
+        if (in.closeRequested || (options.frames > 0 && drawn >= options.frames)) break;
         const auto now = std::chrono::steady_clock::now();
         const double dt = std::chrono::duration<double>(now - last).count();
         last = now;
@@ -144,7 +144,12 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
         renderer.render(frame);
         renderer.present(fb);
         window->swapBuffers();
+        ++drawn;
     }
+    if (!common.quiet)
+        std::printf("showed %d frames in %.1f s (%s)\n", drawn,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                    window->description().c_str());
     return 0;
 }
 
