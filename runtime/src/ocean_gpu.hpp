@@ -8,28 +8,18 @@
 
 namespace dawnforge::runtime {
 
-// The Ocean uniform block of ocean.vert (std140, vec4 only).
 struct OceanUniforms {
     glm::vec4 waveDirs01, waveDirs23, amplitude, wavelength, steepness, phase, noiseScale, noiseDriftX, noiseDriftY, params;
 };
 
+// The block from the one packing of the waves (packForGpu, which ocean_waves.glsl documents),
+// plus the water level, the shore depth and the grid's column count.
 inline OceanUniforms oceanUniforms(const WaveSet& waves, double level, double shoreDepth, int columns) {
-    OceanUniforms u{};
-    for (int i = 0; i < 4; ++i) {
-        const GerstnerWave& w = waves.waves[std::size_t(i)];
-        glm::vec4& dirs = i < 2 ? u.waveDirs01 : u.waveDirs23;
-        dirs[(i % 2) * 2] = float(w.direction.x);
-        dirs[(i % 2) * 2 + 1] = float(w.direction.y);
-        u.amplitude[i] = float(w.amplitude);
-        u.wavelength[i] = float(w.wavelength);
-        u.steepness[i] = float(w.steepness);
-        u.phase[i] = float(w.phase);
-        u.noiseScale[i] = float(waves.noiseScale[std::size_t(i)]);
-        u.noiseDriftX[i] = float(waves.noiseDrift[std::size_t(i)].x);
-        u.noiseDriftY[i] = float(waves.noiseDrift[std::size_t(i)].y);
-    }
-    u.params = glm::vec4(float(level), float(shoreDepth), float(waves.noiseAmplitude), float(columns));
-    return u;
+    const OceanWavesGpu g = packForGpu(waves);
+    const auto v = [](const std::array<float, 4>& a) { return glm::vec4(a[0], a[1], a[2], a[3]); };
+    return {v(g.dirs01),     v(g.dirs23),      v(g.amplitude),   v(g.wavelength),  v(g.steepness),
+            v(g.phase),      v(g.noiseScale),  v(g.noiseDriftX), v(g.noiseDriftY),
+            glm::vec4(float(level), float(shoreDepth), g.noiseAmplitude, float(columns))};
 }
 
 // The noise texture as the vertex shader samples it: RGBA32F, GL_LINEAR, GL_REPEAT, one level.
