@@ -54,9 +54,3 @@ vec3 diffuseLight(vec3 worldPos, vec3 n) {
     vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5);
     return frame.sunColor.rgb * ndl * shadow + hemi * 0.9;
 }
-
-// Cheap integer hash (the same on every GPU and driver).
-uint hashU(uint x) {
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return x;
-}

@@ -37,7 +37,7 @@ void main() {
             vec3 roomSize = vec3(vUv2.x, vUv2.y, vUv1.x);
             vec2 faceUv = clamp(vUv0 / vUv2, 0.0, 1.0);
             uint room = uint(vUv1.y + 0.5);
-            uint h = hashU(vBuilding * 7919u + room);
+            uint h = interiorHash(vBuilding * 7919u + room);
             int style = roomStyle(vBuilding, room, roomStyles);
             vec4 inside = interiorColor(rooms, roomMiddle, style, roomStyles, faceUv, roomRay(V, n, roomSize), 0.45);
             // Daylight through the window by day; some rooms have their lamps on at night.

@@ -7,6 +7,7 @@
 #include <dawnforge/runtime/atlas.hpp>
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/seed.hpp>
 
 #include <glm/common.hpp>
 #include <tbb/blocked_range.h>
@@ -56,17 +57,8 @@ AtlasRect toUv(TexelSquare s) {
 
 // ---- Periodic noise ---------------------------------------------------------------------
 
-std::uint32_t mixBits(std::uint32_t x) {  // "lowbias32" integer hash (C. Wellons)
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
-
 std::uint32_t hash(int x, int y, std::uint32_t seed) {
-    return mixBits(std::uint32_t(x) * 0x9e3779b1U + std::uint32_t(y) * 0x85ebca77U + seed * 0xc2b2ae3dU);
+    return lowbias32(std::uint32_t(x) * 0x9e3779b1U + std::uint32_t(y) * 0x85ebca77U + seed * 0xc2b2ae3dU);
 }
 
 float unitHash(int x, int y, std::uint32_t seed) { return float(hash(x, y, seed) >> 8) * (1.0f / 16777216.0f); }

@@ -2,6 +2,7 @@
 // generator of its room pictures and middle-layer cut-outs. Technique: "Perspective Interior
 // Mapping" / "Extended Perspective Interior Mapping" (Undawn, GDC 2024).
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/seed.hpp>
 #include <dawnforge/runtime/interior.hpp>
 
 #include <algorithm>
@@ -13,16 +14,6 @@
 
 namespace dawnforge::runtime {
 namespace {
-
-// lowbias32 (Chris Wellons' hash-prospector): a 32-bit mix GLSL 4.50 can reproduce exactly.
-constexpr std::uint32_t lowbias32(std::uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 // Hash of a few integers to [0, 1).
 double hash01(std::uint32_t a, std::uint32_t b = 0, std::uint32_t c = 0, std::uint32_t d = 0) {

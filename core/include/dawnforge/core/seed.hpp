@@ -10,6 +10,17 @@ namespace dawnforge {
 // SplitMix64 finaliser: a bijective 64-bit mix.
 std::uint64_t mix64(std::uint64_t x);
 
+// lowbias32 (C. Wellons' hash-prospector): a bijective 32-bit mix that GLSL 4.50 reproduces
+// exactly (runtime/shaders/interior.glsl), for hashes the CPU and the shaders must share.
+constexpr std::uint32_t lowbias32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
 // The seed for one entity and one purpose, e.g. deriveSeed(seed, "lot-split", lotId).
 std::uint64_t deriveSeed(std::uint64_t seed, std::string_view purpose, std::uint64_t id = 0);
 
