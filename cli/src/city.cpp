@@ -55,8 +55,8 @@ procgen::CityRecipe readRecipe(const std::filesystem::path& file) {
 
 }  // namespace
 
-void writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
-                     const CommonOptions& common) {
+procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
+                                  const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
     procgen::City city;
     {
@@ -78,6 +78,7 @@ void writeCityFolder(const procgen::CitySettings& settings, const std::filesyste
                 counts.rooms, seconds);
     std::printf("  triangles: LOD0 %zu, LOD1 %zu\n", counts.trianglesLod0, counts.trianglesLod1);
     std::printf("  wrote %s and %s\n", (outputDir / "city.glb").string().c_str(), (outputDir / "city.json").string().c_str());
+    return std::move(city.plan);
 }
 
 int runCity(const CityOptions& options, const CommonOptions& common) {

@@ -92,9 +92,10 @@ struct CityOptions {
     std::filesystem::path recipeFile;
 };
 int runCity(const CityOptions& options, const CommonOptions& common);
-// Generates a district and writes DIR/city.glb and DIR/city.json, with progress and a summary.
-void writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
-                     const CommonOptions& common);
+// Generates a district and writes DIR/city.glb and DIR/city.json, with progress and a
+// summary; returns the district's plan (streets, coast, blocks, lots).
+procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& outputDir,
+                                  const CommonOptions& common);
 
 struct RenderOptions {
     std::filesystem::path sceneFile;

@@ -15,10 +15,7 @@
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/scene_file.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
-#include <fstream>
 #include <dawnforge/core/format.hpp>
 
 namespace dawnforge::cli {
@@ -26,31 +23,16 @@ namespace dawnforge::cli {
 
 namespace {
 
-// Where the promenade's quay is at x (the 15 m strip between the coastline and the water),
-// read from the city.json the demo just wrote.
-double quayZ(const std::filesystem::path& cityJson, double x) {
-    std::ifstream in(cityJson);
-    const nlohmann::json city = nlohmann::json::parse(in);
-    const auto& coast = city.at("coastline");
-    double y = coast.front()[1].get<double>();
-    for (std::size_t i = 1; i < coast.size(); ++i) {
-        const double x0 = coast[i - 1][0].get<double>(), x1 = coast[i][0].get<double>();
-        if (x >= x0 && x <= x1) {
-            const double t = (x - x0) / (x1 - x0);
-            y = (1.0 - t) * coast[i - 1][1].get<double>() + t * coast[i][1].get<double>();
-        }
-    }
-    return -(y - 7.5);  // plan y north → glTF z = −y; the middle of the quay
-}
-
-runtime::SceneFile demoScene(const std::filesystem::path& dir) {
+// The district, the tower standing on the middle of the quay (the 15 m strip between the
+// coastline and the water) at x = 160 m and breaking, the sea, cameras.
+runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::CityPlan& plan) {
     runtime::SceneFile scene;
     scene.cityDir = dir / "city";
     scene.timeOfDay = 17.5;
     scene.time = 2.4;  // the ball hits at 0.2 s: the tower is coming down
     scene.fps = 30.0;
     scene.ocean = runtime::OceanSettings{};
-    const double x = 160.0, z = quayZ(dir / "city" / "city.json", x);
+    const double x = 160.0, z = -(procgen::coastY(plan, x) - 7.5);  // plan y north → glTF z = −y
     scene.destruction.push_back({dir / "vat", "tower_native", glm::dvec3(x, 0.0, z), 0.0, 0.0});
     scene.cameras.push_back({"harbour", glm::dvec3(x + 75.0, 22.0, z + 70.0), glm::dvec3(x - 10.0, 12.0, z - 25.0), 55.0});
     scene.cameras.push_back({"overview", glm::dvec3(x + 200.0, 190.0, z + 160.0), glm::dvec3(x, 0.0, z - 90.0), 50.0});
@@ -68,7 +50,7 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     city.size = {320.0, 280.0};
     city.tileSize = 160.0;
     city.recipe.coast.water = 0.3;
-    writeCityFolder(city, options.outputDir / "city", common);
+    const procgen::CityPlan plan = writeCityFolder(city, options.outputDir / "city", common);
 
     Scene scene;
     Mesh ground = makeBox({-40, -0.5f, -40}, {40, 0, 40}, 1);
@@ -143,7 +125,7 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     // The scene: the district, the tower standing on the quay and breaking, the sea, at
     // half past five in the afternoon; then a picture of it.
     const auto sceneFile = options.outputDir / "scene.json";
-    writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir), options.outputDir));
+    writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir, plan), options.outputDir));
     std::printf("wrote %s\n", sceneFile.string().c_str());
     const runtime::SceneFile view = runtime::loadSceneFile(sceneFile);
     const auto context = runtime::GlContext::headless();

@@ -162,7 +162,7 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
     s.graph.add("ocean", [&s] {
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        s.stats.drawCalls += s.scene.drawOcean(s.frame, s.target.size, s.stats);
+        s.stats.drawCalls += s.scene.drawOcean(s.stats);
         glDisable(GL_BLEND);
     });
     s.graph.add("tonemap", [&s] {

@@ -422,8 +422,7 @@ std::size_t SceneGpu::drawDestruction(double time, FrameStats& stats) {
     return drawVats(time, false, &stats);  // into the HDR target the opaque pass bound
 }
 
-std::size_t SceneGpu::drawOcean(const FrameSettings& frame, glm::ivec2 size, FrameStats& stats) {
-    (void)frame, (void)size;
+std::size_t SceneGpu::drawOcean(FrameStats& stats) {
     if (!hasOcean_) return 0;
     const OceanGrid grid = projectOceanGrid(camera_, oceanSettings_.level, oceanSettings_.columns, oceanSettings_.rows);
     if (!grid.visible) return 0;

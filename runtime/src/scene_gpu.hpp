@@ -56,7 +56,7 @@ public:
     std::size_t drawShadow(double time);
     std::size_t drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, FrameStats& stats);
     std::size_t drawDestruction(double time, FrameStats& stats);
-    std::size_t drawOcean(const FrameSettings& frame, glm::ivec2 size, FrameStats& stats);
+    std::size_t drawOcean(FrameStats& stats);  // from the camera given to setCamera()
 
 private:
     struct Building {
