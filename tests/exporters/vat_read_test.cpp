@@ -21,6 +21,9 @@ namespace dawnforge {
 
 namespace {
 
+using test::inputErrorOf;
+using test::contains;
+
 constexpr int kFrames = 5;
 constexpr double kFps = 24.0;
 
@@ -57,17 +60,6 @@ Vat bake(const std::filesystem::path& dir, const std::string& name, int pieces, 
     writeVat(vat, settings, dir);
     return vat;
 }
-
-std::string inputErrorOf(auto&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no InputError";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 void expectSameVat(const Vat& vat, const VatFile& read, bool half) {
     EXPECT_EQ(read.layout.pieces, vat.layout.pieces);

@@ -34,6 +34,8 @@ namespace dawnforge {
 
 namespace {
 
+using test::inputErrorOf;
+
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kPieces = 7;
 constexpr int kFrames = 12;
@@ -499,15 +501,6 @@ std::string lineWith(const std::string& text, const std::string& key) {
     if (at == std::string::npos) return {};
     const std::size_t begin = text.rfind('\n', at) + 1;  // npos + 1 = 0 on the first line
     return text.substr(begin, text.find('\n', at) - begin);
-}
-
-std::string inputErrorOf(auto&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no InputError";
 }
 
 }  // namespace

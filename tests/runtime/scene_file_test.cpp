@@ -16,6 +16,9 @@ namespace dawnforge::runtime {
 
 namespace {
 
+using test::inputErrorOf;
+using test::contains;
+
 const std::filesystem::path kFile = std::filesystem::path("/scenes/harbour/scene.json");
 
 const std::string kFull = R"({
@@ -32,17 +35,6 @@ const std::string kFull = R"({
     { "name": "street", "position": [5, 1.7, 5] }
   ]
 })";
-
-std::string inputErrorOf(auto&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "no InputError";
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // kFull with `from` replaced by `to` (which must occur).
 std::string edited(const std::string& from, const std::string& to) {

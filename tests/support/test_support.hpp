@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the test executables: temporary folders, OBJ fixtures, running the
 // dawnforge executable and the Khronos glTF-Validator.
+#include <dawnforge/core/error.hpp>
 #include <dawnforge/core/mesh.hpp>
 
 #include <filesystem>
@@ -46,6 +47,17 @@ RunResult validateGltf(const std::filesystem::path& file);
 
 // Lines in a text (a trailing newline does not start another line).
 std::size_t lineCount(const std::string& text);
+
+// The message of the InputError that f() throws, or "no InputError".
+std::string inputErrorOf(auto&& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "no InputError";
+}
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // Signed volume of a closed mesh by the divergence theorem, in long double: an
 // independent reference for the CGAL-based inspection.
