@@ -115,8 +115,10 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     glNamedFramebufferTexture(shadowFbo_.id(), GL_DEPTH_ATTACHMENT, shadowMap_.id(), 0);
     glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
 
-    if (scene.ocean) loadOcean(*scene.ocean);
-    renderOverlook();
+    if (scene.ocean) {
+        loadOcean(*scene.ocean);
+        renderOverlook();  // only the ocean reads it
+    }
     gl::check("loading the scene");
 }
 

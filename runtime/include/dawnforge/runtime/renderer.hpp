@@ -2,7 +2,7 @@
 // The renderer: loads what a scene file names (the city, destruction VATs, the ocean) onto
 // the GPU and draws frames through a fixed frame graph of passes, each timed with GL timer
 // queries:
-//   overlook (once, at load)  top-down orthographic depth of the terrain and buildings
+//   overlook (once, at load)  top-down orthographic depth of the terrain and buildings (for the ocean)
 //   shadow                    directional shadow map from the sun (LOD1 shells, VAT pieces)
 //   opaque                    buildings (atlas tiling, interior mapping on glass) and ground
 //   destruction               VAT playback of each destruction instance
