@@ -51,7 +51,7 @@ void BM_GenerateAndEncode1km(benchmark::State& state) {
         City city = generateCity(district());
         recordCounts(state, city);
         const std::string report = cityReportJson(city);
-        const std::vector<std::byte> glb = encodeGlb(takeCityScene(city));
+        const std::vector<std::byte> glb = exporters::encodeGlb(takeCityScene(city));
         state.counters["glb_MB"] = static_cast<double>(glb.size()) / 1e6;
         benchmark::DoNotOptimize(report.data());
     }

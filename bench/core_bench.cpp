@@ -18,7 +18,7 @@ BENCHMARK(BM_InspectIcosphere)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillise
 void BM_EncodeGlb(benchmark::State& state) {
     dawnforge::Scene scene;
     scene.addMeshNode(dawnforge::makeIcosphere(1.0f, static_cast<int>(state.range(0))));
-    for (auto _ : state) benchmark::DoNotOptimize(dawnforge::encodeGlb(scene));
+    for (auto _ : state) benchmark::DoNotOptimize(dawnforge::exporters::encodeGlb(scene));
     state.counters["triangles"] = static_cast<double>(scene.meshes[0].triangleCount());
 }
 BENCHMARK(BM_EncodeGlb)->Arg(5)->Arg(7)->Unit(benchmark::kMillisecond);

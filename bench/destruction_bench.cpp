@@ -16,25 +16,25 @@ namespace {
 using namespace dawnforge;
 
 struct Fixture {
-    FractureResult fracture;
-    std::vector<RigidPiece> pieces;
+    sim::FractureResult fracture;
+    std::vector<sim::RigidPiece> pieces;
     std::vector<Mesh> meshes;
-    SimulationSettings settings;
+    sim::SimulationSettings settings;
 };
 
 const Fixture& fixture() {
     static const Fixture f = [] {
         Fixture out;
-        FractureSettings fs;
+        sim::FractureSettings fs;
         fs.pieces = 500;
         fs.density = 300.0;
-        out.fracture = fractureMesh(makeTower(8, 3.2f, 12.0f, 10.0f), fs);
-        out.pieces = rigidPieces(out.fracture);
-        for (const RigidPiece& p : out.pieces) out.meshes.push_back(p.mesh);
+        out.fracture = sim::fractureMesh(makeTower(8, 3.2f, 12.0f, 10.0f), fs);
+        out.pieces = sim::rigidPieces(out.fracture);
+        for (const sim::RigidPiece& p : out.pieces) out.meshes.push_back(p.mesh);
         out.settings.frames = 240;
         out.settings.fps = 30.0;
         out.settings.substeps = 4;
-        Projectile ball;
+        sim::Projectile ball;
         ball.target = {6.0, 12.8, 2.0};
         ball.radius = 1.5;
         out.settings.projectile = ball;
@@ -43,15 +43,15 @@ const Fixture& fixture() {
     return f;
 }
 
-const SimulationResult& simulation() {
-    static const SimulationResult r = simulate(fixture().pieces, fixture().fracture.bonds, fixture().settings);
+const sim::SimulationResult& simulation() {
+    static const sim::SimulationResult r = sim::simulate(fixture().pieces, fixture().fracture.bonds, fixture().settings);
     return r;
 }
 
 void BM_Simulate500Pieces240Frames(benchmark::State& state) {
     const Fixture& f = fixture();
-    SimulationResult r;
-    for (auto _ : state) r = simulate(f.pieces, f.fracture.bonds, f.settings);
+    sim::SimulationResult r;
+    for (auto _ : state) r = sim::simulate(f.pieces, f.fracture.bonds, f.settings);
     state.counters["pieces"] = double(r.pieces);
     state.counters["bonds"] = double(r.bonds);
     state.counters["broken"] = double(r.brokenBonds);
@@ -61,23 +61,23 @@ BENCHMARK(BM_Simulate500Pieces240Frames)->Unit(benchmark::kMillisecond)->UseReal
 // Encoding and writing the four files (EXRs, mesh, data) of one preset.
 void BM_WriteVat500Pieces240Frames(benchmark::State& state) {
     const Fixture& f = fixture();
-    const SimulationResult& r = simulation();
-    VatSettings settings;
-    settings.preset = static_cast<VatPreset>(state.range(0));
+    const sim::SimulationResult& r = simulation();
+    exporters::VatSettings settings;
+    settings.preset = static_cast<exporters::VatPreset>(state.range(0));
     settings.half = state.range(1) != 0;
     const auto dir = std::filesystem::temp_directory_path() / "dawnforge_vat_bench";
-    Vat vat;
+    exporters::Vat vat;
     for (auto _ : state) {
-        vat = encodeVat({f.meshes, r.transforms, r.frames, r.fps}, settings);
-        writeVat(vat, settings, dir);
+        vat = exporters::encodeVat({f.meshes, r.transforms, r.frames, r.fps}, settings);
+        exporters::writeVat(vat, settings, dir);
     }
     std::filesystem::remove_all(dir);
     state.counters["max_vertex_error_mm"] = 1000.0 * vat.maxVertexError;
 }
 BENCHMARK(BM_WriteVat500Pieces240Frames)
-    ->Args({int(VatPreset::Native), 0})
-    ->Args({int(VatPreset::Unreal), 0})
-    ->Args({int(VatPreset::Unity), 1})
+    ->Args({int(exporters::VatPreset::Native), 0})
+    ->Args({int(exporters::VatPreset::Unreal), 0})
+    ->Args({int(exporters::VatPreset::Unity), 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

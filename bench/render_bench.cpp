@@ -32,7 +32,7 @@ const SceneFile& district() {
         settings.tileSize = 160.0;
         settings.recipe.coast.water = 0.3;
         procgen::City city = procgen::generateCity(settings);
-        writeGlb(procgen::takeCityScene(city), dir / "city" / "city.glb");
+        exporters::writeGlb(procgen::takeCityScene(city), dir / "city" / "city.glb");
         SceneFile s;
         s.cityDir = dir / "city";
         s.ocean = OceanSettings{};

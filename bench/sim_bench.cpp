@@ -10,11 +10,11 @@ namespace {
 
 void BM_FractureIcosphere(benchmark::State& state) {
     const dawnforge::Mesh sphere = dawnforge::makeIcosphere(1.0f, 5);
-    dawnforge::FractureSettings settings;
+    dawnforge::sim::FractureSettings settings;
     settings.pieces = static_cast<int>(state.range(0));
     double volumeError = 0.0;
     for (auto _ : state) {
-        const dawnforge::FractureResult r = dawnforge::fractureMesh(sphere, settings);
+        const dawnforge::sim::FractureResult r = dawnforge::sim::fractureMesh(sphere, settings);
         double total = 0.0;
         for (const auto& p : r.pieces) total += p.mass.volume;
         volumeError = std::abs(total - r.inputVolume) / r.inputVolume;
@@ -27,9 +27,9 @@ BENCHMARK(BM_FractureIcosphere)->Arg(200)->Arg(1000)->Unit(benchmark::kMilliseco
 
 void BM_FractureSeeds(benchmark::State& state) {
     const dawnforge::Mesh sphere = dawnforge::makeIcosphere(1.0f, 5);
-    dawnforge::FractureSettings settings;
+    dawnforge::sim::FractureSettings settings;
     settings.pieces = 200;
-    for (auto _ : state) benchmark::DoNotOptimize(dawnforge::sampleFractureSeeds(sphere, settings));
+    for (auto _ : state) benchmark::DoNotOptimize(dawnforge::sim::sampleFractureSeeds(sphere, settings));
 }
 BENCHMARK(BM_FractureSeeds)->Unit(benchmark::kMillisecond)->UseRealTime();
 

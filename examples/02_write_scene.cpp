@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     // Anything JSON can go into the glTF extras of the scene or of a node.
     scene.extrasJson = R"({"example": 2})";
     try {
-        dawnforge::writeGlb(scene, argv[1]);  // atomic: a temporary file, then a rename
+        dawnforge::exporters::writeGlb(scene, argv[1]);  // atomic: a temporary file, then a rename
     } catch (const dawnforge::InputError& e) {
         std::fprintf(stderr, "%s\n", e.what());
         return 2;

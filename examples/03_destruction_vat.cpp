@@ -3,7 +3,7 @@
 //
 //   build/bin/example_03_destruction_vat OUT_DIR
 //
-// The library calls are the three stages of the command line (fracture, simulate, vat);
+// The library calls are the three stages of the command line (fracture, sim::simulate, vat);
 // each takes a plain settings struct and returns plain data, so a tool can keep the
 // pieces in memory between them instead of going through files.
 #include <dawnforge/core/error.hpp>
@@ -21,31 +21,31 @@ int main(int argc, char** argv) {
     }
     using namespace dawnforge;
     // A 4 × 6 × 4 m pillar in 60 pieces, smaller ones near where it will be hit.
-    FractureSettings fracture;
+    sim::FractureSettings fracture;
     fracture.pieces = 60;
     fracture.density = 600.0;
     fracture.impact = glm::dvec3(2.0, 3.0, 0.0);
     fracture.impactRadius = 2.0;
-    const FractureResult pieces = fractureMesh(makeBox({-2, 0, -2}, {2, 6, 2}), fracture);
+    const sim::FractureResult pieces = sim::fractureMesh(makeBox({-2, 0, -2}, {2, 6, 2}), fracture);
 
     // Bodies are the pieces as fracture describes them: mesh about the centre of mass.
-    const std::vector<RigidPiece> bodies = rigidPieces(pieces);
+    const std::vector<sim::RigidPiece> bodies = sim::rigidPieces(pieces);
     std::vector<Mesh> meshes;
-    for (const RigidPiece& b : bodies) meshes.push_back(b.mesh);
+    for (const sim::RigidPiece& b : bodies) meshes.push_back(b.mesh);
     // The bonds glue neighbours; a 2 t ball at 30 m/s breaks the ones it loads too much.
-    SimulationSettings sim;
+    sim::SimulationSettings sim;
     sim.frames = 90;
-    sim.projectile = Projectile{{2.0, 3.0, 0.0}, {-1.0, 0.0, 0.0}, 2000.0, 30.0, 0.5};
-    const SimulationResult motion = simulate(bodies, pieces.bonds, sim);
+    sim.projectile = sim::Projectile{{2.0, 3.0, 0.0}, {-1.0, 0.0, 0.0}, 2000.0, 30.0, 0.5};
+    const sim::SimulationResult motion = sim::simulate(bodies, pieces.bonds, sim);
 
     // Bake for the SideFX Labs Unity shaders, in half floats (RGBA16F).
-    VatSettings vat;
-    vat.preset = VatPreset::Unity;
+    exporters::VatSettings vat;
+    vat.preset = exporters::VatPreset::Unity;
     vat.half = true;
     vat.name = "pillar";
     try {
-        const Vat textures = encodeVat({meshes, motion.transforms, motion.frames, motion.fps}, vat);
-        writeVat(textures, vat, argv[1]);
+        const exporters::Vat textures = exporters::encodeVat({meshes, motion.transforms, motion.frames, motion.fps}, vat);
+        exporters::writeVat(textures, vat, argv[1]);
         std::printf("%zu pieces, %zu of %zu bonds broke; %d×%d textures, worst vertex error %.2g m (half)\n",
                     motion.pieces, motion.brokenBonds, motion.bonds, textures.layout.width, textures.layout.height,
                     textures.maxVertexError);

@@ -68,7 +68,7 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
     const std::size_t blocks = city.plan.blocks.size();
     const Scene scene = procgen::takeCityScene(city);
     ensureOutputDirectory(outputDir);
-    writeGlb(scene, outputDir / "city.glb");
+    exporters::writeGlb(scene, outputDir / "city.glb");
     writeFileAtomically(outputDir / "city.json", report);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -63,7 +63,7 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     scene.extrasJson = format(R"({{"generator":"dawnforge demo","floors":{}}})", options.floors);
 
     const auto file = options.outputDir / "scene.glb";
-    writeGlb(scene, file);
+    exporters::writeGlb(scene, file);
 
     std::size_t triangles = 0;
     for (const Mesh& m : scene.meshes) triangles += m.triangleCount();
@@ -75,49 +75,49 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     }
 
     // Break the tower: 40 Voronoi pieces, smaller near a corner at mid-height.
-    FractureSettings fracture;
+    sim::FractureSettings fracture;
     fracture.pieces = 40;
     fracture.impact = glm::dvec3(6.0, 0.5 * 3.2 * options.floors, 5.0);
     fracture.impactRadius = 6.0;
     fracture.density = 300.0;  // a building is mostly air: about 300 kg/m^3 on average
-    const FractureResult pieces = fractureMesh(scene.meshes[1], fracture);
+    const sim::FractureResult pieces = sim::fractureMesh(scene.meshes[1], fracture);
     const auto fractureDir = options.outputDir / "fracture";
     ensureOutputDirectory(fractureDir);
-    const std::vector<std::byte> fragments = encodeGlb(fractureScene(pieces));  // also copied into sim/
+    const std::vector<std::byte> fragments = exporters::encodeGlb(sim::fractureScene(pieces));  // also copied into sim/
     writeFileAtomically(fractureDir / "fragments.glb", fragments);
-    writeFileAtomically(fractureDir / "fracture.json", fractureJson(pieces, fracture, "built-in tower"));
+    writeFileAtomically(fractureDir / "fracture.json", sim::fractureJson(pieces, fracture, "built-in tower"));
     std::printf("wrote %s: the tower in %zu pieces with %zu bonds\n", (fractureDir / "fragments.glb").string().c_str(),
                 pieces.pieces.size(), pieces.bonds.size());
 
     // Knock it down: a 20 t ball at 40 m/s into the +x wall at mid-height, 0.2 s in; 8 s at 30 fps.
-    const std::vector<RigidPiece> rigid = rigidPieces(pieces);
-    SimulationSettings sim;
+    const std::vector<sim::RigidPiece> rigid = sim::rigidPieces(pieces);
+    sim::SimulationSettings sim;
     sim.frames = 240;
     sim.strength = 3e5;  // weak masonry: it stands on its own (tested) and falls when hit
-    Projectile ball;
+    sim::Projectile ball;
     ball.target = glm::dvec3(6.0, 0.5 * 3.2 * options.floors, 2.0);
     ball.radius = 1.5;
     sim.projectile = ball;
-    SimulationResult motion;
+    sim::SimulationResult motion;
     {
         StderrProgress progress("simulate", !common.quiet && stderrIsTerminal());
-        motion = simulate(rigid, pieces.bonds, sim, progress.callback());
+        motion = sim::simulate(rigid, pieces.bonds, sim, progress.callback());
     }
     const auto simDir = options.outputDir / "sim";
-    writeSimulation(simDir, motion, sim, rigid, fractureDir.string());
+    sim::writeSimulation(simDir, motion, sim, rigid, fractureDir.string());
     writeFileAtomically(simDir / "fragments.glb", fragments);
     std::printf("wrote %s: %d frames, %zu of %zu bonds broke\n", (simDir / "sim.json").string().c_str(), motion.frames,
                 motion.brokenBonds, motion.bonds);
 
     // Bake it for our runtime and for the Labs shaders in Unreal and Unity.
     std::vector<Mesh> meshes;
-    for (const RigidPiece& p : rigid) meshes.push_back(p.mesh);
-    VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
-    for (VatPreset preset : {VatPreset::Native, VatPreset::Unreal, VatPreset::Unity}) {
-        VatSettings vat;
+    for (const sim::RigidPiece& p : rigid) meshes.push_back(p.mesh);
+    exporters::VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
+    for (exporters::VatPreset preset : {exporters::VatPreset::Native, exporters::VatPreset::Unreal, exporters::VatPreset::Unity}) {
+        exporters::VatSettings vat;
         vat.preset = preset;
-        vat.name = "tower_" + std::string(vatPresetName(preset));
-        writeVat(encodeVat(animation, vat), vat, options.outputDir / "vat");
+        vat.name = "tower_" + std::string(exporters::vatPresetName(preset));
+        exporters::writeVat(exporters::encodeVat(animation, vat), vat, options.outputDir / "vat");
     }
     std::printf("wrote %s: tower_{native,unreal,unity}_{pos.exr,rot.exr,mesh.glb,data.json}\n",
                 (options.outputDir / "vat").string().c_str());
@@ -136,9 +136,9 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     frame.time = view.time;
     frame.timeOfDay = view.timeOfDay;
     runtime::FrameStats stats = renderer.render(frame);
-    const Image image = renderer.readPixels(&stats);
+    const exporters::Image image = renderer.readPixels(&stats);
     const auto picture = options.outputDir / "render.png";
-    writePng(image, picture);
+    exporters::writePng(image, picture);
     std::printf("wrote %s: %dx%d at %.1f h, %.2f s into the scene (%s); %.0f ms for the first frame\n",
                 picture.string().c_str(), image.width, image.height, frame.timeOfDay, frame.time,
                 context->description().c_str(), stats.frameMs);

@@ -47,7 +47,7 @@ std::vector<glm::dvec3> readPoints(const std::filesystem::path& file) {
 
 int runFracture(const FractureOptions& options, const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
-    FractureSettings settings;
+    sim::FractureSettings settings;
     settings.pieces = options.pieces;
     settings.seed = options.seed;
     if (!options.impact.empty()) settings.impact = glm::dvec3(options.impact[0], options.impact[1], options.impact[2]);
@@ -75,21 +75,21 @@ int runFracture(const FractureOptions& options, const CommonOptions& common) {
         for (const std::string& action : report.actions)
             std::fprintf(stderr, "dawnforge fracture: repaired %s: %s\n", options.file.string().c_str(), action.c_str());
     }
-    FractureResult result;
+    sim::FractureResult result;
     {
         StderrProgress progress("fracture", !common.quiet && stderrIsTerminal());
         try {
-            result = fractureMesh(mesh, settings, progress.callback());
+            result = sim::fractureMesh(mesh, settings, progress.callback());
         } catch (const InputError& e) {
             throw InputError(format("{}: {}", options.file.string(), e.what()));
         }
     }
     ensureOutputDirectory(options.outputDir);
-    writeGlb(fractureScene(result), options.outputDir / "fragments.glb");
-    writeFileAtomically(options.outputDir / "fracture.json", fractureJson(result, settings, options.file.string()));
+    exporters::writeGlb(sim::fractureScene(result), options.outputDir / "fragments.glb");
+    writeFileAtomically(options.outputDir / "fracture.json", sim::fractureJson(result, settings, options.file.string()));
 
     double total = 0.0;
-    for (const FracturePiece& p : result.pieces) total += p.mass.volume;
+    for (const sim::FracturePiece& p : result.pieces) total += p.mass.volume;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("fractured %s into %zu pieces with %zu bonds in %.2f s\n", options.file.string().c_str(),
                 result.pieces.size(), result.bonds.size(), seconds);

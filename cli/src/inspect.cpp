@@ -46,7 +46,7 @@ int runInspect(const InspectOptions& options, const CommonOptions&) {
         Mesh fixed = repairMesh(mesh, &repair);
         Scene scene;
         scene.addMeshNode(fixed);
-        writeGlb(scene, options.repairOutput);
+        exporters::writeGlb(scene, options.repairOutput);
         nlohmann::ordered_json r;
         r["output"] = options.repairOutput.string();
         r["actions"] = repair.actions;

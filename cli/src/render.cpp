@@ -73,7 +73,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     frame.timeOfDay = options.timeOfDay ? std::fmod(*options.timeOfDay, 24.0) : scene.timeOfDay;
 
     runtime::FrameStats stats = renderer.render(frame);
-    Image image = renderer.readPixels(&stats);
+    exporters::Image image = renderer.readPixels(&stats);
     if (options.stats) {
         // The first frame pays for shader compilation and first uploads: time the next ones,
         // pipelined for the frame time, then with a glFinish after each pass for the split.
@@ -91,7 +91,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
         stats = median(true);
         stats.frameMs = frameMs;
     }
-    writePng(image, options.output);
+    exporters::writePng(image, options.output);
     if (options.stats)
         std::fputs(runtime::frameStatsJson(stats, size, context->description(), renderer.loadSeconds(), renderer.overlookMs())
                        .c_str(),

@@ -28,8 +28,8 @@ std::vector<std::byte> readBytes(const std::filesystem::path& file) {
     return bytes;
 }
 
-SimulationSettings simulationSettings(const SimulateOptions& o) {
-    SimulationSettings s;
+sim::SimulationSettings simulationSettings(const SimulateOptions& o) {
+    sim::SimulationSettings s;
     s.frames = o.frames;
     s.fps = o.fps;
     s.substeps = o.substeps;
@@ -45,7 +45,7 @@ SimulationSettings simulationSettings(const SimulateOptions& o) {
     s.ground = !o.noGround;
     if (o.groundHeight) s.groundHeight = *o.groundHeight;
     if (!o.projectile.empty()) {
-        Projectile p;
+        sim::Projectile p;
         p.target = point(o.projectile);
         if (!o.projectileDirection.empty()) p.direction = point(o.projectileDirection);
         p.mass = o.projectileMass;
@@ -53,7 +53,7 @@ SimulationSettings simulationSettings(const SimulateOptions& o) {
         p.radius = o.projectileRadius;
         s.projectile = p;
     }
-    if (!o.explosion.empty()) s.explosion = Explosion{point(o.explosion), o.explosionRadius, o.explosionImpulse};
+    if (!o.explosion.empty()) s.explosion = sim::Explosion{point(o.explosion), o.explosionRadius, o.explosionImpulse};
     s.collapse = o.collapse;
     for (const std::filesystem::path& file : o.colliders) s.colliders.push_back(loadMesh(file));
     return s;
@@ -63,16 +63,16 @@ SimulationSettings simulationSettings(const SimulateOptions& o) {
 
 int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
-    const SimulationSettings settings = simulationSettings(options);
-    const FractureFolder fracture = loadFracture(options.fractureDir);
-    SimulationResult result;
+    const sim::SimulationSettings settings = simulationSettings(options);
+    const sim::FractureFolder fracture = sim::loadFracture(options.fractureDir);
+    sim::SimulationResult result;
     {
         StderrProgress progress("simulate", !common.quiet && stderrIsTerminal());
-        result = simulate(fracture.pieces, fracture.bonds, settings, progress.callback());
+        result = sim::simulate(fracture.pieces, fracture.bonds, settings, progress.callback());
     }
     const std::vector<std::byte> fragments = readBytes(options.fractureDir / "fragments.glb");
 
-    writeSimulation(options.outputDir, result, settings, fracture.pieces, options.fractureDir.string());
+    sim::writeSimulation(options.outputDir, result, settings, fracture.pieces, options.fractureDir.string());
     writeFileAtomically(options.outputDir / "fragments.glb", fragments);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -12,7 +12,7 @@
 #include <limits>
 #include <sstream>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 namespace {
 
@@ -321,4 +321,4 @@ void writeGlb(const Scene& scene, const std::filesystem::path& file, const GltfS
     out.commit();
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

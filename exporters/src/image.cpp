@@ -9,7 +9,7 @@
 
 #include <cstring>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 std::vector<std::byte> encodePng(const Image& image) {
     DAWNFORGE_ASSERT(image.width > 0 && image.height > 0 &&
@@ -39,4 +39,4 @@ Image readPng(const std::filesystem::path& file) {
     return image;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

@@ -25,7 +25,7 @@
 #include <cstring>
 #include <sstream>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 namespace {
 
@@ -366,4 +366,4 @@ void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem
     writeFileAtomically(dir / (settings.name + "_data.json"), std::string_view(vat.dataJson));
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

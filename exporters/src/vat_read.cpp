@@ -20,7 +20,7 @@
 #include <sstream>
 #include <utility>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 namespace {
 
@@ -287,4 +287,4 @@ std::vector<std::string> listVats(const std::filesystem::path& dir) {
     return names;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

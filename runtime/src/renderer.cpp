@@ -253,10 +253,10 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     return s.stats;
 }
 
-Image Renderer::readPixels(FrameStats* stats) {
+exporters::Image Renderer::readPixels(FrameStats* stats) {
     const auto t0 = Clock::now();
     const glm::ivec2 size = s_->target.size;
-    Image image{size.x, size.y, std::vector<std::uint8_t>(std::size_t(size.x) * std::size_t(size.y) * 4)};
+    exporters::Image image{size.x, size.y, std::vector<std::uint8_t>(std::size_t(size.x) * std::size_t(size.y) * 4)};
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s_->target.ldrFbo.id());
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());

@@ -197,10 +197,10 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
 }
 
 void SceneGpu::loadVat(const DestructionInstance& d) {
-    const VatFile file = readVat(d.vatDir, d.name);
-    if (file.preset != VatPreset::Native)
+    const exporters::VatFile file = exporters::readVat(d.vatDir, d.name);
+    if (file.preset != exporters::VatPreset::Native)
         throw InputError(format("{}: VAT {} uses the {} preset; the runtime plays native VATs", d.vatDir.string(), d.name,
-                                vatPresetName(file.preset)));
+                                exporters::vatPresetName(file.preset)));
     Vat v;
     v.name = d.name;
     v.layout = glm::vec4(float(file.layout.width), float(file.layout.rowsPerFrame), float(file.layout.height),

@@ -44,7 +44,7 @@
 #include <numeric>
 #include <set>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 namespace PMP = CGAL::Polygon_mesh_processing;
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -1036,4 +1036,4 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
     }
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 namespace {
 
@@ -76,4 +76,4 @@ std::string fractureJson(const FractureResult& result, const FractureSettings& s
     return j.dump(1) + "\n";
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

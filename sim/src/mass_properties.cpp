@@ -2,7 +2,7 @@
 // integrals of 1, x, y, z, x^2, y^2, z^2, xy, yz, zx over a polyhedron, from its faces.
 #include <dawnforge/sim/mass_properties.hpp>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 namespace {
 
@@ -75,4 +75,4 @@ MassProperties computeMassProperties(std::span<const glm::dvec3> positions, std:
     return out;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -22,7 +22,7 @@
 #include <limits>
 #include <memory>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 namespace {
 
@@ -533,4 +533,4 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     return result;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <iterator>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 namespace fs = std::filesystem;
 
@@ -273,4 +273,4 @@ SimulationFolder loadSimulation(const fs::path& dir) {
     return out;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

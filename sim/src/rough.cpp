@@ -20,7 +20,7 @@
 #include <mutex>
 #include <numeric>
 
-namespace dawnforge::detail {
+namespace dawnforge::sim::detail {
 
 namespace {
 
@@ -206,4 +206,4 @@ std::vector<std::vector<RoughPiece>> roughPieces(const Mesh& input, const std::v
     return out;
 }
 
-}  // namespace dawnforge::detail
+}  // namespace dawnforge::sim::detail

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace dawnforge::detail {
+namespace dawnforge::sim::detail {
 
 struct RoughPlane {
     glm::dvec3 normal;        // unit; the cell is where dot(normal, p) + offset + noise < 0
@@ -42,4 +42,4 @@ struct RoughPiece {
 std::vector<std::vector<RoughPiece>> roughPieces(const Mesh& input, const std::vector<RoughCell>& cells,
                                                  const RoughSettings& settings);
 
-}  // namespace dawnforge::detail
+}  // namespace dawnforge::sim::detail

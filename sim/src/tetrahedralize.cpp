@@ -5,7 +5,7 @@
 
 #include <tetgen.h>
 
-namespace dawnforge::detail {
+namespace dawnforge::sim::detail {
 
 Tetrahedra tetrahedralize(std::span<const glm::dvec3> points, std::span<const std::array<std::uint32_t, 3>> triangles) {
     tetgenio in, out;  // tetgenio frees its arrays with delete[] in its destructor
@@ -51,4 +51,4 @@ Tetrahedra tetrahedralize(std::span<const glm::dvec3> points, std::span<const st
     return result;
 }
 
-}  // namespace dawnforge::detail
+}  // namespace dawnforge::sim::detail

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-namespace dawnforge::detail {
+namespace dawnforge::sim::detail {
 
 struct Tetrahedra {
     std::vector<glm::dvec3> points;
@@ -18,4 +18,4 @@ struct Tetrahedra {
 // Throws InputError if TetGen refuses the surface (it is open or self-intersecting).
 Tetrahedra tetrahedralize(std::span<const glm::dvec3> points, std::span<const std::array<std::uint32_t, 3>> triangles);
 
-}  // namespace dawnforge::detail
+}  // namespace dawnforge::sim::detail

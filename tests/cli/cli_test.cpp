@@ -16,6 +16,7 @@
 #include <set>
 
 using namespace dawnforge;
+using namespace dawnforge::exporters;
 using dawnforge::test::RunResult;
 using dawnforge::test::TempDir;
 

@@ -14,6 +14,7 @@
 #include <limits>
 
 using namespace dawnforge;
+using namespace dawnforge::exporters;
 using dawnforge::test::TempDir;
 
 namespace {

@@ -11,6 +11,7 @@
 #include <cstring>
 
 using namespace dawnforge;
+using namespace dawnforge::exporters;
 using dawnforge::test::TempDir;
 
 namespace {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 namespace {
 
@@ -209,4 +209,4 @@ TEST(VatRead, MeshWhoseLookupUvsAreNotTexelCentres) {
     EXPECT_TRUE(contains(message, "lookup UV")) << message;
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

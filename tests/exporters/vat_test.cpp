@@ -30,7 +30,7 @@
 #include <utility>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 namespace {
 
@@ -668,4 +668,4 @@ TEST(Vat, SameAnimationSameBytes) {
     }
 }
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

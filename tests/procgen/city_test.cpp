@@ -75,7 +75,7 @@ TEST(City, SameSeedGivesIdenticalBytesOnAnyThreadCount) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         City city = generateCity(smallCity());
         const std::string report = cityReportJson(city);
-        std::vector<std::byte> glb = encodeGlb(takeCityScene(city));
+        std::vector<std::byte> glb = exporters::encodeGlb(takeCityScene(city));
         return std::make_pair(report, glb);
     };
     const auto one = bytes(1), two = bytes(2);

@@ -27,6 +27,7 @@
 #include <random>
 
 using namespace dawnforge;
+using namespace dawnforge::exporters;
 using namespace dawnforge::runtime;
 using dawnforge::test::TempDir;
 

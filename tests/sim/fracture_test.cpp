@@ -17,6 +17,8 @@
 #include <numeric>
 
 using namespace dawnforge;
+using namespace dawnforge::exporters;
+using namespace dawnforge::sim;
 
 namespace {
 

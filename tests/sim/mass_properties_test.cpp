@@ -6,6 +6,7 @@
 #include <numbers>
 
 using namespace dawnforge;
+using namespace dawnforge::sim;
 
 namespace {
 

@@ -17,6 +17,7 @@
 #include <cmath>
 
 using namespace dawnforge;
+using namespace dawnforge::sim;
 
 namespace {
 

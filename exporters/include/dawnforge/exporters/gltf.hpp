@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 struct GltfSettings {
     std::string generator = "dawnforge";
@@ -22,4 +22,4 @@ std::vector<std::byte> encodeGlb(const Scene& scene, const GltfSettings& setting
 // Writes `scene` as GLB atomically (temporary file + rename).
 void writeGlb(const Scene& scene, const std::filesystem::path& file, const GltfSettings& settings = {});
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 struct Image {
     int width = 0;
@@ -21,4 +21,4 @@ void writePng(const Image& image, const std::filesystem::path& file);
 // Reads a PNG (any channel count, expanded to RGBA); throws InputError naming the file.
 Image readPng(const std::filesystem::path& file);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

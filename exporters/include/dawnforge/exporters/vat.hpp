@@ -19,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 enum class VatPreset {
     Native,  // metres, +Y up: what the dawnforge runtime plays
@@ -85,4 +85,4 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings);
 // top), <name>_mesh.glb and <name>_data.json, each atomically.
 void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::exporters {
 
 struct VatFile {
     std::string name;
@@ -37,4 +37,4 @@ VatFile readVat(const std::filesystem::path& dir, const std::string& name);
 // `dir` is not a folder.
 std::vector<std::string> listVats(const std::filesystem::path& dir);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::exporters

@@ -71,7 +71,7 @@ public:
     // Draws one frame into the offscreen target; resizes it first if `size` differs.
     FrameStats render(const FrameSettings& frame);
     // The last frame's pixels (row 0 at the top), timed as the "readback" pass in `stats`.
-    Image readPixels(FrameStats* stats = nullptr);
+    exporters::Image readPixels(FrameStats* stats = nullptr);
     // Copies the last frame into the default framebuffer (window).
     void present(glm::ivec2 windowSize);
     void resize(glm::ivec2 size);

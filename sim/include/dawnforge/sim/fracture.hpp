@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 struct FractureSettings {
     int pieces = 50;                            // seeds (Voronoi cells) for uniform sampling
@@ -73,4 +73,4 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
 // Seeds only (the first stage of fractureMesh), for tests and tools.
 std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 Scene fractureScene(const FractureResult& result);
 
@@ -17,4 +17,4 @@ Scene fractureScene(const FractureResult& result);
 // plus bonds between touching pieces: a, b, area, centroid, normal.
 std::string fractureJson(const FractureResult& result, const FractureSettings& settings, std::string_view inputFile);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <span>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 struct MassProperties {
     double volume = 0.0;             // m^3, signed (negative when the mesh is inside out)
@@ -20,4 +20,4 @@ struct MassProperties {
 MassProperties computeMassProperties(std::span<const glm::dvec3> positions, std::span<const std::uint32_t> indices,
                                      double density);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

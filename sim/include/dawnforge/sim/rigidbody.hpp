@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 // A piece as fracture.json and fragments.glb describe it.
 struct RigidPiece {
@@ -108,4 +108,4 @@ struct PrincipalInertia {
 };
 PrincipalInertia principalInertia(const glm::dmat3& inertia);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace dawnforge {
+namespace dawnforge::sim {
 
 struct FractureFolder {
     std::vector<RigidPiece> pieces;  // in fracture.json order; meshes from fragments.glb
@@ -51,4 +51,4 @@ struct SimulationFolder {
 // finite values, unit quaternions). Throws InputError naming the file and the problem.
 SimulationFolder loadSimulation(const std::filesystem::path& dir);
 
-}  // namespace dawnforge
+}  // namespace dawnforge::sim
