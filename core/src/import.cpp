@@ -26,13 +26,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// One line, however many lines a parser's message had.
-std::string oneLine(std::string text) {
-    std::replace(text.begin(), text.end(), '\n', ' ');
-    while (!text.empty() && (text.back() == ' ' || text.back() == '\r')) text.pop_back();
-    return text;
-}
-
 // ---------------------------------------------------------------- OBJ
 
 // tinyobjloader reads an unparsable number as 0 and silently drops a face with a bad

@@ -46,7 +46,7 @@ glm::dvec2 closestOnSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
 }
 
 void reportProgress(const ProgressFn& progress, double fraction) {
-    if (progress && !progress(fraction)) throw Cancelled();
+    if (!progress(fraction)) throw Cancelled();
 }
 
 double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
