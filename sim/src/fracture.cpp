@@ -104,7 +104,7 @@ bool tryIntersectInPlace(SM& a, SM& b, const char* what, std::size_t id) {
     }
     if (!ok)
         throw InputError(format("fracture: the intersection with {} {} is not a manifold (a cut passes exactly "
-                                "through an edge or corner of the mesh); try another --seed",
+                                "through an edge or corner of the mesh); try another seed",
                                 what, id));
     return true;
 }
@@ -917,25 +917,22 @@ void checkInput(const Mesh& mesh) {
         std::string where;
         for (const auto& [a, b] : r.openEdges)
             where += format("{}({} {} {})-({} {} {})", where.empty() ? ", open at " : ", ", a.x, a.y, a.z, b.x, b.y, b.z);
-        throw InputError(format("the mesh is not closed ({} boundary edges{}, {} non-manifold edges); repair it with "
-                                "'dawnforge fracture --repair' or 'dawnforge inspect FILE --repair OUT.glb'",
-                                r.boundaryEdges, where, r.nonManifoldEdges));
+        throw RepairableMeshError(format("the mesh is not closed ({} boundary edges{}, {} non-manifold edges)",
+                                         r.boundaryEdges, where, r.nonManifoldEdges));
     }
     if (!r.manifold)
-        throw InputError(format("the mesh is not manifold ({} non-manifold vertices); repair it with 'dawnforge "
-                                "inspect FILE --repair OUT.glb'",
-                                r.nonManifoldVertices));
-    if (r.selfIntersecting) throw InputError("the mesh intersects itself; fracture needs a mesh that bounds one volume");
+        throw RepairableMeshError(format("the mesh is not manifold ({} non-manifold vertices)", r.nonManifoldVertices));
+    if (r.selfIntersecting)
+        throw RepairableMeshError("the mesh intersects itself; fracture needs a mesh that bounds one volume");
     if (!r.consistentlyOriented || !r.outwardOriented)
-        throw InputError("the mesh is inside out or inconsistently oriented; repair it with 'dawnforge inspect FILE "
-                         "--repair OUT.glb'");
+        throw RepairableMeshError("the mesh is inside out or inconsistently oriented");
     if (!r.volume || *r.volume <= 0.0) throw InputError("the mesh has no volume");
 }
 
 }  // namespace
 
 std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings) {
-    DAWNFORGE_ASSERT(settings.pieces > 0, "pieces must be positive");
+    if (settings.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", settings.pieces));
     const Input in = makeInput(mesh, nullptr);
     return sampleSeeds(in, settings.pieces, settings.seed, settings.impact, settings.impactRadius,
                        settings.impactDensity);
@@ -943,8 +940,32 @@ std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSett
 
 namespace {
 
+bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// Settings a user could get wrong, as sentences without the command line's names.
+void checkSettings(const FractureSettings& s) {
+    if (s.points.empty() && s.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", s.pieces));
+    if (s.impact && !finite(*s.impact)) throw InputError("the impact point is not finite");
+    if (!(s.impactRadius > 0.0) || !std::isfinite(s.impactRadius))
+        throw InputError(format("the impact radius must be positive (got {})", s.impactRadius));
+    if (!(s.impactDensity >= 0.0)) throw InputError("the impact density boost must not be negative");
+    for (const glm::dvec3& p : s.points)
+        if (!finite(p)) throw InputError("a seed point is not finite");
+    if (!(s.density > 0.0) || !std::isfinite(s.density))
+        throw InputError(format("the density must be positive (got {})", s.density));
+    if (s.interiorMaterial > 15) throw InputError(format("material IDs are 0 to 15 (got {})", int(s.interiorMaterial)));
+    if (!(s.interiorUvScale > 0.0)) throw InputError("the UV scale of cut faces must be positive");
+    if (!(s.minVolume >= 0.0)) throw InputError("the minimum piece volume must not be negative");
+    if (s.levels < 0 || s.levels > 4) throw InputError(format("re-fracture levels are 0 to 4 (got {})", s.levels));
+    if (s.levels > 0 && !s.impact)
+        throw InputError("re-fracture levels need an impact point (the pieces near it are fractured again)");
+    if (s.levelPieces < 2) throw InputError(format("a re-fractured piece needs at least 2 pieces (got {})", s.levelPieces));
+    if (!(s.roughness >= 0.0) || !(s.roughScale >= 0.0) || !(s.voxelSize >= 0.0))
+        throw InputError("roughness, its scale and the voxel size must not be negative");
+}
+
 FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
-    DAWNFORGE_ASSERT(settings.pieces > 0 || !settings.points.empty(), "pieces must be positive");
+    checkSettings(settings);
     checkInput(mesh);
     FractureResult result;
     result.inputTriangles = mesh.triangleCount();
