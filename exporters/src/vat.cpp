@@ -382,7 +382,7 @@ VatLayout vatLayout(std::size_t pieces, int frames, int maxWidth) {
     const std::size_t height = rows * std::size_t(frames);
     if (height > std::size_t(kVatMaxTextureSize))
         throw InputError(format("{} frames × {} rows per frame = {} rows, more than {}; at most {} frames fit "
-                                "(fewer frames, or a larger --max-width if it is below {})",
+                                "(fewer frames, or a larger maximum width if it is below {})",
                                 frames, rows, height, kVatMaxTextureSize, kVatMaxTextureSize / rows, kVatMaxTextureSize));
     l.height = int(height);
     return l;
