@@ -39,16 +39,14 @@ const char* roomKindName(RoomKind kind) {
 
 namespace {
 
-constexpr double kRiser = 0.2;        // stairs: target step height
-constexpr double kMinTread = 0.23;  // with kRiser: about 41 degrees, steep but a stair
+constexpr double kRiser = 0.2;          // stairs: target step height
+constexpr double kMinTread = 0.23;      // with kRiser: about 41 degrees, steep but a stair
 constexpr double kStairWidth = 1.1;
-constexpr double kGlassRecess = 0.08; // glass sits this far behind the outer face
-constexpr double kBandHeight = 0.25;  // floor band and cornice
-constexpr double kMinEdge = 1.5;
-constexpr double kMaxShedRise = 3.0;
-constexpr double kMinInnerWidth = 2.4;  // metres inside the walls, along and across the footprint's first edge  // metres from the low to the high side of a shed roof      // footprints lose vertices until every edge is this long
-
-double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+constexpr double kGlassRecess = 0.08;   // glass sits this far behind the outer face
+constexpr double kBandHeight = 0.25;    // floor band and cornice
+constexpr double kMinEdge = 1.5;        // footprints lose vertices until every edge is this long
+constexpr double kMaxShedRise = 3.0;    // metres from the low to the high side of a shed roof
+constexpr double kMinInnerWidth = 2.4;  // metres inside the walls, along and across the footprint's first edge
 
 // A wall segment between an outer line (o0 -> o1) and an inner line (i0 -> i1) parallel to
 // it at distance `thickness` on the left (inside). Positions along the wall are distances s
@@ -188,7 +186,7 @@ Polygon2 mitreOffset(std::span<const glm::dvec2> poly, double d) {
         const glm::dvec2 d0 = glm::normalize(c - p), d1 = glm::normalize(q - c);
         const glm::dvec2 n0{-d0.y, d0.x}, n1{-d1.y, d1.x};
         // c + x with dot(x, n0) = d and dot(x, n1) = d.
-        const double det = cross2(n0, n1);
+        const double det = cross(n0, n1);
         out[i] = std::abs(det) < 1e-12 ? c + n0 * d : c + glm::dvec2((d * n1.y - d * n0.y), (n0.x * d - n1.x * d)) / det;
     }
     return out;
@@ -207,7 +205,7 @@ Polygon2 dropShortEdges(Polygon2 poly, double minEdge) {
         // Remove whichever end of the short edge costs less area.
         const std::size_t n = poly.size(), a = worst, b = (worst + 1) % n;
         auto cost = [&](std::size_t i) {
-            return std::abs(cross2(poly[i] - poly[(i + n - 1) % n], poly[(i + 1) % n] - poly[(i + n - 1) % n]));
+            return std::abs(cross(poly[i] - poly[(i + n - 1) % n], poly[(i + 1) % n] - poly[(i + n - 1) % n]));
         };
         poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(cost(a) <= cost(b) ? a : b));
     }
@@ -553,7 +551,7 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
                 double sa = INFINITY, sb = -INFINITY;
                 for (std::size_t k = 0; k < m; ++k) {
                     const glm::dvec2 p = piece.polygon[k], q = piece.polygon[(k + 1) % m];
-                    if (std::abs(cross2(dir, p - a)) > 1e-6 || std::abs(cross2(dir, q - a)) > 1e-6) continue;
+                    if (std::abs(cross(dir, p - a)) > 1e-6 || std::abs(cross(dir, q - a)) > 1e-6) continue;
                     if (glm::dot(q - p, dir) <= 0.0) continue;
                     sa = std::min(sa, glm::dot(p - o, dir));
                     sb = std::max(sb, glm::dot(q - o, dir));

@@ -16,10 +16,6 @@ const char* materialName(std::uint8_t id) {
     return kNames[id];
 }
 
-namespace {
-double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-}  // namespace
-
 double signedArea(std::span<const glm::dvec2> polygon) {
     double sum = 0.0;
     for (std::size_t i = 0, n = polygon.size(); i < n; ++i) sum += cross(polygon[i], polygon[(i + 1) % n]);

@@ -20,6 +20,9 @@ inline glm::vec3 toWorld(glm::dvec2 p, double h) {
     return {static_cast<float>(p.x), static_cast<float>(h), static_cast<float>(-p.y)};
 }
 
+// The 2D cross product (z of the 3D one): > 0 when b turns counter-clockwise from a.
+inline double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+
 double signedArea(std::span<const glm::dvec2> polygon);  // > 0 when counter-clockwise
 glm::dvec2 centroid(std::span<const glm::dvec2> polygon);  // area centroid
 double perimeter(std::span<const glm::dvec2> polygon);
