@@ -176,82 +176,6 @@ std::vector<double> levelsOf(double y0, double y1, std::span<const std::vector<O
     return levels;
 }
 
-// The polygon moved inward by d along each edge's normal (mitred corners). Convex input,
-// d small against the edges.
-Polygon2 mitreOffset(std::span<const glm::dvec2> poly, double d) {
-    const std::size_t n = poly.size();
-    Polygon2 out(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 p = poly[(i + n - 1) % n], c = poly[i], q = poly[(i + 1) % n];
-        const glm::dvec2 d0 = glm::normalize(c - p), d1 = glm::normalize(q - c);
-        const glm::dvec2 n0{-d0.y, d0.x}, n1{-d1.y, d1.x};
-        // c + x with dot(x, n0) = d and dot(x, n1) = d.
-        const double det = cross(n0, n1);
-        out[i] = std::abs(det) < 1e-12 ? c + n0 * d : c + glm::dvec2((d * n1.y - d * n0.y), (n0.x * d - n1.x * d)) / det;
-    }
-    return out;
-}
-
-// Drops vertices of a convex polygon (making it smaller) until every edge is at least `minEdge`.
-Polygon2 dropShortEdges(Polygon2 poly, double minEdge) {
-    while (poly.size() > 3) {
-        std::size_t worst = poly.size();
-        double shortest = minEdge;
-        for (std::size_t i = 0; i < poly.size(); ++i) {
-            const double len = glm::distance(poly[i], poly[(i + 1) % poly.size()]);
-            if (len < shortest) shortest = len, worst = i;
-        }
-        if (worst == poly.size()) break;
-        // Remove whichever end of the short edge costs less area.
-        const std::size_t n = poly.size(), a = worst, b = (worst + 1) % n;
-        auto cost = [&](std::size_t i) {
-            return std::abs(cross(poly[i] - poly[(i + n - 1) % n], poly[(i + 1) % n] - poly[(i + n - 1) % n]));
-        };
-        poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(cost(a) <= cost(b) ? a : b));
-    }
-    return poly;
-}
-
-// Distance from p along unit dir to where it leaves the convex polygon.
-double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir) {
-    double best = INFINITY;
-    for (std::size_t i = 0, n = convex.size(); i < n; ++i) {
-        const glm::dvec2 a = convex[i], b = convex[(i + 1) % n];
-        const glm::dvec2 e = b - a, outN{e.y, -e.x};
-        const double denom = glm::dot(dir, outN);
-        if (denom <= 1e-12) continue;
-        best = std::min(best, glm::dot(a - p, outN) / denom);
-    }
-    return std::max(0.0, best);
-}
-
-// The piece of convex `poly` with lo <= dot(p, axis) <= hi.
-Polygon2 slab(std::span<const glm::dvec2> poly, glm::dvec2 axis, double lo, double hi) {
-    Polygon2 piece = clipHalfPlane(poly, axis, hi);
-    if (!piece.empty()) piece = clipHalfPlane(piece, -axis, -lo);
-    return piece;
-}
-
-// Where the line {p : dot(p, axis) = value} crosses convex `poly`, as the range of
-// dot(p, other) on it; empty optional when it misses.
-std::optional<std::pair<double, double>> chord(std::span<const glm::dvec2> poly, glm::dvec2 axis, double value,
-                                                glm::dvec2 other) {
-    constexpr double kOnLine = 1e-7;  // vertices this close count as on the line (clipping leaves ~1e-15)
-    double lo = INFINITY, hi = -INFINITY;
-    auto take = [&](glm::dvec2 p) {
-        lo = std::min(lo, glm::dot(p, other));
-        hi = std::max(hi, glm::dot(p, other));
-    };
-    for (std::size_t i = 0, n = poly.size(); i < n; ++i) {
-        const glm::dvec2 a = poly[i], b = poly[(i + 1) % n];
-        const double da = glm::dot(a, axis) - value, db = glm::dot(b, axis) - value;
-        if (std::abs(da) <= kOnLine) take(a);
-        if ((da < -kOnLine && db > kOnLine) || (da > kOnLine && db < -kOnLine)) take(a + (b - a) * (da / (da - db)));
-    }
-    if (!(hi > lo)) return std::nullopt;
-    return std::make_pair(lo, hi);
-}
-
 // --- Floor layout -------------------------------------------------------------------------
 
 enum class LayoutKind { DoubleLoaded, SingleLoaded, Enfilade };
@@ -328,7 +252,7 @@ std::vector<Piece> splitSide(std::span<const glm::dvec2> poly, const PolygonFram
                              double sideLo, double sideHi, std::span<const double> cuts, int side,
                              const FloorLayout& layout) {
     std::vector<Piece> pieces;
-    const Polygon2 strip = slab(poly, sideAxis, sideLo, sideHi);
+    const Polygon2 strip = clipStrip(poly, sideAxis, sideLo, sideHi);
     if (strip.empty()) return pieces;
     std::vector<double> bounds{-INFINITY};
     bounds.insert(bounds.end(), cuts.begin(), cuts.end());
@@ -336,7 +260,8 @@ std::vector<Piece> splitSide(std::span<const glm::dvec2> poly, const PolygonFram
     const double vOrigin = glm::dot(f.origin, f.v);
     for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
         const double lo = bounds[i], hi = bounds[i + 1];
-        const Polygon2 p = slab(strip, f.v, std::isinf(lo) ? -1e30 : lo + vOrigin, std::isinf(hi) ? 1e30 : hi + vOrigin);
+        const Polygon2 p =
+            clipStrip(strip, f.v, std::isinf(lo) ? -1e30 : lo + vOrigin, std::isinf(hi) ? 1e30 : hi + vOrigin);
         if (p.size() < 3 || signedArea(p) < 1.0) continue;
         Piece piece;
         piece.polygon = p;
@@ -360,7 +285,7 @@ std::vector<Piece> layoutPieces(const BuildContext& ctx, const Section& section)
     if (L.kind == LayoutKind::Enfilade) return splitSide(section.inner, f, f.u, -1e30, 1e30, L.cutsLow, -1, L);
     Piece corridor;
     corridor.kind = RoomKind::Corridor;
-    corridor.polygon = slab(section.inner, f.u, L.corridor0 + uOrigin, L.corridor1 + uOrigin);
+    corridor.polygon = clipStrip(section.inner, f.u, L.corridor0 + uOrigin, L.corridor1 + uOrigin);
     pieces.push_back(corridor);
     if (L.kind == LayoutKind::DoubleLoaded) {
         auto low = splitSide(section.inner, f, f.u, -1e30, L.corridor0 + uOrigin, L.cutsLow, 0, L);
@@ -652,8 +577,8 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
             // Above the ground the stairs room has a floor at the door and a landing where the
             // flight from below arrives; the rest is the stairwell.
             const StairFlight below = stairFlight(ctx, floor - 1);
-            for (const Polygon2& part : {slab(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
-                                         slab(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
+            for (const Polygon2& part : {clipStrip(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
+                                         clipStrip(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
                 if (part.size() >= 3 && signedArea(part) > 0.05) lod0.prism(part, y0, slabTop, kFloor, kFloor, kFloor);
         }
         const double wallTop = y1;

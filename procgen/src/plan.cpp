@@ -31,18 +31,6 @@ constexpr double kOnLine = 1e-7;            // metres: a vertex this close to a 
 constexpr double kCollinear = 1e-9;         // metres: a vertex this close to its neighbours' chord is dropped
 constexpr double kMaxGridNodes = 4.0e6;     // a larger grid means a size that makes no sense for its spacing
 
-bool segmentsCross(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2) {
-    const double d1 = cross(q2 - q1, p1 - q1), d2 = cross(q2 - q1, p2 - q1);
-    const double d3 = cross(p2 - p1, q1 - p1), d4 = cross(p2 - p1, q2 - p1);
-    return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
-}
-
-glm::dvec2 closestOnSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    return len2 > 0.0 ? a + ab * std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : a;
-}
-
 void reportProgress(const ProgressFn& progress, double fraction) {
     if (progress && !progress(fraction)) throw Cancelled();
 }
@@ -309,10 +297,7 @@ bool validCurb(const Polygon2& curb, const Polygon2& face, const std::vector<dou
 Polygon2 curbPolygon(const Polygon2& face, const std::vector<double>& offset) {
     const std::size_t n = face.size();
     std::vector<glm::dvec2> normal(n);  // inward (the face is counter-clockwise)
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 d = glm::normalize(face[(i + 1) % n] - face[i]);
-        normal[i] = {-d.y, d.x};
-    }
+    for (std::size_t i = 0; i < n; ++i) normal[i] = inwardNormal(face[i], face[(i + 1) % n]);
     if (isConvex(face)) {
         // Intersection of the inward half-planes: exact for convex faces, and edges that
         // the offset swallows simply vanish.
@@ -361,19 +346,6 @@ Polygon2 curbPolygon(const Polygon2& face, const std::vector<double>& offset) {
     const double widest = *std::max_element(offset.begin(), offset.end());
     curb = insetPolygon(face, widest);
     return validCurb(curb, face, offset) ? curb : Polygon2{};
-}
-
-// A point strictly inside a simple polygon: the centroid of its largest triangle.
-glm::dvec2 interiorPoint(const Polygon2& polygon) {
-    const std::vector<std::uint32_t> triangles = triangulatePolygon(polygon);
-    glm::dvec2 best = polygon[0];
-    double bestArea = -1.0;
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        const glm::dvec2 a = polygon[triangles[t]], b = polygon[triangles[t + 1]], c = polygon[triangles[t + 2]];
-        const double area = cross(b - a, c - a);
-        if (area > bestArea) bestArea = area, best = (a + b + c) / 3.0;
-    }
-    return best;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -536,18 +508,14 @@ void convexSplit(Piece piece, std::vector<Piece>& out, int depth) {
     const Polygon2& p = piece.polygon;
     const std::size_t n = p.size();
     if (n < 3) return;
-    std::size_t v = n;
-    for (std::size_t i = 0; i < n && v == n; ++i) {
-        const glm::dvec2 a = p[(i + n - 1) % n], b = p[i], c = p[(i + 1) % n];
-        if (cross(b - a, c - b) < -1e-12 * glm::length(b - a) * glm::length(c - b)) v = i;
-    }
+    const std::size_t v = reflexVertex(p);
     if (v == n) {
         out.push_back(std::move(piece));
         return;
     }
     if (depth > 256) return;
-    const glm::dvec2 b = p[v], e0 = glm::normalize(b - p[(v + n - 1) % n]), e1 = glm::normalize(p[(v + 1) % n] - b);
-    const glm::dvec2 bisector = glm::normalize(glm::dvec2(-e0.y, e0.x) + glm::dvec2(-e1.y, e1.x));
+    const glm::dvec2 b = p[v];
+    const glm::dvec2 bisector = glm::normalize(inwardNormal(p[(v + n - 1) % n], b) + inwardNormal(b, p[(v + 1) % n]));
     double best = std::numeric_limits<double>::infinity(), bestS = 0.0;
     std::size_t hit = n;
     for (std::size_t j = 0; j < n; ++j) {
