@@ -441,15 +441,10 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
     // Perimeter run at each corner for continuous facade u.
     std::vector<double> run(n + 1, 0.0);
     for (std::size_t i = 0; i < n; ++i) run[i + 1] = run[i] + glm::distance(sec.footprint[i], sec.footprint[(i + 1) % n]);
-    // The front edge of this section: the edge most aligned with the frame's u, nearest the street.
-    std::size_t front = 0;
-    double bestFront = INFINITY;
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 d = glm::normalize(sec.footprint[(i + 1) % n] - sec.footprint[i]);
-        if (glm::dot(d, ctx.frame.u) < 0.9) continue;
-        const double v = glm::dot(0.5 * (sec.footprint[i] + sec.footprint[(i + 1) % n]) - ctx.frame.origin, ctx.frame.v);
-        if (v < bestFront) bestFront = v, front = i;
-    }
+    // The front edge of this section: of the edges along the frame's u, the one nearest the street.
+    const std::size_t front = bestEdge(sec.footprint, [&](glm::dvec2 a, glm::dvec2 b, glm::dvec2 dir) {
+        return glm::dot(dir, ctx.frame.u) < 0.9 ? -INFINITY : -glm::dot(0.5 * (a + b) - ctx.frame.origin, ctx.frame.v);
+    });
     const std::vector<Piece> pieces = layoutPieces(ctx, sec);
     // LOD1 openings per edge, over all storeys (their columns are shared by every storey).
     std::vector<std::vector<Opening>> lod1Openings(n);
@@ -738,13 +733,9 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
     const glm::dvec2 fb = lot.polygon[(static_cast<std::size_t>(lot.frontEdge) + 1) % lot.polygon.size()];
     const glm::dvec2 frontDir = glm::normalize(fb - fa);
-    std::size_t frontEdge = 0;
-    double best = -INFINITY;
-    for (std::size_t i = 0; i < footprint.size(); ++i) {
-        const glm::dvec2 d = glm::normalize(footprint[(i + 1) % footprint.size()] - footprint[i]);
-        const double score = glm::dot(d, frontDir) * 100.0 - distanceToSegment(footprint[i], fa, fb);
-        if (score > best) best = score, frontEdge = i;
-    }
+    const std::size_t frontEdge = bestEdge(footprint, [&](glm::dvec2 a, glm::dvec2, glm::dvec2 dir) {
+        return glm::dot(dir, frontDir) * 100.0 - distanceToSegment(a, fa, fb);
+    });
 
     BuildContext ctx{recipe, edgeFrame(footprint, frontEdge), {}, {}};
     BuildingStyle style;
@@ -839,10 +830,9 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     // The ridge of a gable runs along the street; a shed rises towards it. (The street edge,
     // not the layout's frame: floors may be laid out from a side edge.)
     const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
-    for (std::size_t i = 0; i < top.size(); ++i) {
-        const glm::dvec2 d = glm::normalize(top[(i + 1) % top.size()] - top[i]);
-        if (glm::dot(d, streetDir) > 0.99) { rs.frontEdge = i; break; }
-    }
+    rs.frontEdge = bestEdge(top, [&](glm::dvec2, glm::dvec2, glm::dvec2 dir) {
+        return glm::dot(dir, streetDir) > 0.99 ? 0.0 : -INFINITY;  // the first edge along the street
+    });
     // A shed rises over the whole depth: keep it a lean-to, not a wedge.
     if (rs.type == RoofType::Shed) {
         const PolygonFrame depth = edgeFrame(top, rs.frontEdge);

@@ -138,5 +138,20 @@ TEST(Geometry2d, DropShortEdgesOnlyShrinksAConvexPolygon) {
     EXPECT_EQ(dropShortEdges(kSquare, 10.0).size(), 3u);  // never fewer than three
 }
 
+TEST(Geometry2d, BestEdgeIsTheFirstOfTheHighestScores) {
+    // Edges of the square: 0 east, 1 north, 2 west, 3 south.
+    const auto along = [](glm::dvec2 want) {
+        return [want](glm::dvec2, glm::dvec2, glm::dvec2 dir) { return glm::dot(dir, want); };
+    };
+    EXPECT_EQ(bestEdge(kSquare, along({1, 0})), 0u);
+    EXPECT_EQ(bestEdge(kSquare, along({0, 1})), 1u);
+    EXPECT_EQ(bestEdge(kSquare, along({-1, 0})), 2u);
+    EXPECT_EQ(bestEdge(kSquare, along({0, -1})), 3u);
+    EXPECT_EQ(bestEdge(kSquare, [](glm::dvec2, glm::dvec2, glm::dvec2) { return 1.0; }), 0u);  // a tie
+    const auto highest = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2) { return std::min(a.y, b.y); };
+    EXPECT_EQ(bestEdge(kSquare, highest), 2u);  // the north edge runs west: (4, 4) -> (0, 4)
+    EXPECT_EQ(bestEdge(kSquare, [](glm::dvec2, glm::dvec2, glm::dvec2) { return -INFINITY; }), 0u);
+}
+
 }  // namespace
 }  // namespace dawnforge::procgen

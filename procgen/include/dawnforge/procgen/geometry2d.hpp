@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <utility>
@@ -88,5 +89,20 @@ struct PolygonFrame {
     glm::dvec2 toFrame(glm::dvec2 p) const { return {glm::dot(p - origin, u), glm::dot(p - origin, v)}; }
 };
 PolygonFrame edgeFrame(std::span<const glm::dvec2> polygon, std::size_t edge);
+
+// The edge i (polygon[i] -> polygon[i + 1]) with the highest score(polygon[i], polygon[i + 1],
+// unit direction); the first of equal scores; 0 when no score is above -infinity. Buildings
+// pick the edge facing a street this way, each with its own rule for "facing".
+template <class Score>
+std::size_t bestEdge(std::span<const glm::dvec2> polygon, Score score) {
+    std::size_t best = 0;
+    double bestScore = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, n = polygon.size(); i < n; ++i) {
+        const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % n];
+        const double s = score(a, b, glm::normalize(b - a));
+        if (s > bestScore) bestScore = s, best = i;
+    }
+    return best;
+}
 
 }  // namespace dawnforge::procgen
