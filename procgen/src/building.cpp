@@ -858,23 +858,147 @@ std::uint8_t pick(Rng& rng, std::initializer_list<std::uint8_t> options) {
     return *(options.begin() + static_cast<std::ptrdiff_t>(rng.below(options.size())));
 }
 
+// The outer face (the footprint) and the inner face of a section's exterior wall.
+struct WallOutline {
+    Polygon2 footprint, inner;
+};
+
+// The base's wall on `lot`, set back by `setback`; nullopt when the lot is too small or too
+// thin for a building.
+std::optional<WallOutline> baseOutline(const Lot& lot, const CityRecipe& recipe, double setback) {
+    const Polygon2 footprint = dropShortEdges(simplifyPolygon(insetPolygon(lot.polygon, setback), 0.01), kMinEdge);
+    if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint))
+        return std::nullopt;
+    const Polygon2 inner = mitreOffset(footprint, recipe.buildings.wallThickness);
+    if (!isConvex(inner) || signedArea(inner) < 4.0) return std::nullopt;
+    // No slivers: a building is at least kMinInnerWidth wide inside its walls both ways.
+    const PolygonFrame extent = edgeFrame(inner, 0);
+    if (extent.uMax - extent.uMin < kMinInnerWidth || extent.vMax - extent.vMin < kMinInnerWidth) return std::nullopt;
+    return WallOutline{footprint, inner};
+}
+
+// A building's random choices, drawn from its generator in this order.
+struct BuildingDraw {
+    BuildingStyle style;
+    int floors = 0;       // of the base
+    int towerFloors = 0;  // 0: no tower
+    RoofType roof = RoofType::Flat;
+};
+
+BuildingDraw drawBuilding(const CityRecipe& recipe, Rng& rng) {
+    const BuildingRecipe& br = recipe.buildings;
+    BuildingDraw draw;
+    draw.style.wall = pick(rng, {kBrick, kConcrete, kPlaster});
+    draw.style.shop = rng.uniform() < br.shopChance;
+    draw.style.balconies = rng.uniform() < br.balconyChance;
+    // Floors: skewed towards the low end.
+    const double x = rng.uniform();
+    const int floors = br.minFloors + static_cast<int>(std::floor(x * x * (br.maxFloors - br.minFloors + 1)));
+    draw.floors = std::clamp(floors, br.minFloors, br.maxFloors);
+    if (rng.uniform() < br.towerChance && br.towerExtraFloors > 0)
+        draw.towerFloors = rng.range(std::min(2, br.towerExtraFloors), br.towerExtraFloors);
+    // Roof type by weight.
+    const double weights[4] = {recipe.roofs.flat, recipe.roofs.hip, recipe.roofs.gable, recipe.roofs.shed};
+    double pickW = rng.uniform() * (weights[0] + weights[1] + weights[2] + weights[3]);
+    int roofIndex = 0;
+    while (roofIndex < 3 && pickW >= weights[roofIndex]) pickW -= weights[roofIndex++];
+    draw.roof = static_cast<RoofType>(roofIndex);
+    return draw;
+}
+
+// Lays the floors out from the street edge. Too shallow behind it for a flight of stairs:
+// from a side edge instead (the entrance then opens on that side); failing that, as one
+// storey without a tower. Sets ctx.frame and ctx.layout.
+void chooseLayout(BuildContext& ctx, const WallOutline& base, std::size_t frontEdge, BuildingDraw& draw, Rng& rng) {
+    const std::size_t n = base.footprint.size();
+    std::optional<FloorLayout> layout = planLayout(ctx, base.inner, draw.floors + draw.towerFloors, rng);
+    for (std::size_t side : {(frontEdge + 1) % n, (frontEdge + n - 1) % n}) {
+        if (layout) break;
+        ctx.frame = edgeFrame(base.footprint, side);
+        layout = planLayout(ctx, base.inner, draw.floors + draw.towerFloors, rng);
+    }
+    if (!layout) {
+        draw.floors = 1, draw.towerFloors = 0;
+        ctx.frame = edgeFrame(base.footprint, frontEdge);
+        layout = planLayout(ctx, base.inner, 1, rng);
+    }
+    ctx.layout = *layout;
+}
+
+// The tower's wall, set back from the base's; nullopt when the base's floors cannot carry
+// one: a tower needs a corridor with rooms on both sides whose stairs survive the setback.
+std::optional<WallOutline> towerOutline(const BuildContext& ctx, std::span<const glm::dvec2> footprint) {
+    const BuildingRecipe& br = ctx.recipe.buildings;
+    const FloorLayout& L = ctx.layout;
+    const Polygon2 tower = dropShortEdges(simplifyPolygon(insetPolygon(footprint, br.towerSetback), 0.01), kMinEdge);
+    if (L.kind != LayoutKind::DoubleLoaded || !L.hasStairs || tower.size() < 3 || !isConvex(tower)) return std::nullopt;
+    const Polygon2 inner = mitreOffset(tower, br.wallThickness);
+    if (!isConvex(inner)) return std::nullopt;
+    const PolygonFrame& f = ctx.frame;
+    const double uOrigin = glm::dot(f.origin, f.u), vOrigin = glm::dot(f.origin, f.v);
+    const auto high = chord(inner, f.u, L.corridor1 + uOrigin, f.v);
+    const bool stairsFit = high && high->first - vOrigin < L.stairs0 - 0.5 &&
+                           high->second - vOrigin > L.stairs1 + 0.5 && !std::isinf(L.stairs0) && !std::isinf(L.stairs1);
+    const auto low = chord(inner, f.u, L.corridor0 + uOrigin, f.v);
+    if (!stairsFit || !low || !(low->second - low->first > 2.0)) return std::nullopt;
+    return WallOutline{tower, inner};
+}
+
+// Roof settings from the recipe, in the building's wall material.
+RoofSettings roofSettings(const CityRecipe& recipe, RoofType type, const BuildingStyle& style) {
+    RoofSettings rs;
+    rs.type = type;
+    rs.parapetHeight = recipe.roofs.parapetHeight;
+    rs.parapetWidth = recipe.roofs.parapetWidth;
+    rs.slabThickness = recipe.interiors.slabThickness;
+    rs.wallMaterial = style.wall;
+    return rs;
+}
+
+// The roof over the top section `top`. A gable's ridge runs along the street and a shed rises
+// towards it (the street's direction, not the layout's frame: floors may be laid out from a
+// side edge); a shed rises over the whole depth, so its pitch keeps it a lean-to, not a wedge.
+RoofSettings topRoofSettings(const CityRecipe& recipe, const BuildingStyle& style, RoofType type,
+                             std::span<const glm::dvec2> top, glm::dvec2 streetDir) {
+    RoofSettings rs = roofSettings(recipe, type, style);
+    rs.pitch = recipe.roofs.pitch;
+    rs.frontEdge = bestEdge(top, [&](glm::dvec2, glm::dvec2, glm::dvec2 dir) {
+        return glm::dot(dir, streetDir) > 0.99 ? 0.0 : -INFINITY;  // the first edge along the street
+    });
+    if (rs.type == RoofType::Shed) {
+        const PolygonFrame depth = edgeFrame(top, rs.frontEdge);
+        rs.pitch = std::min(rs.pitch, kMaxShedRise / std::max(1.0, depth.vMax - depth.vMin));
+    }
+    return rs;
+}
+
+void addRoof(Building& b, const Roof& roof) {
+    appendMesh(b.lod0, roof.mesh);
+    appendMesh(b.lod1, roof.mesh);
+}
+
+// Stairs join the stairs rooms of consecutive floors.
+void joinStairs(Building& b) {
+    for (std::size_t i = 0; i < b.rooms.size(); ++i) {
+        if (b.rooms[i].kind != RoomKind::Stairs) continue;
+        for (std::size_t j = i + 1; j < b.rooms.size(); ++j)
+            if (b.rooms[j].kind == RoomKind::Stairs && b.rooms[j].floor == b.rooms[i].floor + 1) {
+                b.doors.push_back({b.rooms[i].id, b.rooms[j].id, true, centroid(b.rooms[i].polygon)});
+                break;
+            }
+    }
+}
+
 }  // namespace
 
 Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
-    const BuildingRecipe& br = recipe.buildings;
-    const InteriorRecipe& ir = recipe.interiors;
     Building b;
     b.id = b.lot = lot.id;
     Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
     const double setback = recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter;
-    Polygon2 footprint = insetPolygon(lot.polygon, setback);
-    footprint = dropShortEdges(simplifyPolygon(footprint, 0.01), kMinEdge);
-    if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint)) return b;
-    const Polygon2 inner = mitreOffset(footprint, br.wallThickness);
-    if (!isConvex(inner) || signedArea(inner) < 4.0) return b;
-    // No slivers: a building is at least kMinInnerWidth wide inside its walls both ways.
-    const PolygonFrame extent = edgeFrame(inner, 0);
-    if (extent.uMax - extent.uMin < kMinInnerWidth || extent.vMax - extent.vMin < kMinInnerWidth) return b;
+    const std::optional<WallOutline> base = baseOutline(lot, recipe, setback);
+    if (!base) return b;
+    const Polygon2& footprint = base->footprint;
 
     // The footprint edge facing the lot's front street: parallel to it and nearest.
     const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
@@ -885,120 +1009,38 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     });
 
     BuildContext ctx{recipe, edgeFrame(footprint, frontEdge), {}, {}};
-    BuildingStyle style;
-    style.wall = pick(rng, {kBrick, kConcrete, kPlaster});
-    style.shop = rng.uniform() < br.shopChance;
-    style.balconies = rng.uniform() < br.balconyChance;
-    // Floors: skewed towards the low end.
-    const double x = rng.uniform();
-    int floors = br.minFloors + static_cast<int>(std::floor(x * x * (br.maxFloors - br.minFloors + 1)));
-    floors = std::clamp(floors, br.minFloors, br.maxFloors);
-    int towerFloors = 0;
-    const bool wantTower = rng.uniform() < br.towerChance && br.towerExtraFloors > 0;
-    if (wantTower) towerFloors = rng.range(std::min(2, br.towerExtraFloors), br.towerExtraFloors);
-    // Roof type by weight; tall buildings get flat roofs.
-    const double weights[4] = {recipe.roofs.flat, recipe.roofs.hip, recipe.roofs.gable, recipe.roofs.shed};
-    double pickW = rng.uniform() * (weights[0] + weights[1] + weights[2] + weights[3]);
-    int roofIndex = 0;
-    while (roofIndex < 3 && pickW >= weights[roofIndex]) pickW -= weights[roofIndex++];
-
-    std::optional<FloorLayout> layout = planLayout(ctx, inner, floors + towerFloors, rng);
-    // Too shallow behind the street for a flight of stairs: lay the floors out from a side
-    // edge instead (the entrance then opens on that side); failing that, one storey.
-    for (std::size_t side : {(frontEdge + 1) % footprint.size(), (frontEdge + footprint.size() - 1) % footprint.size()}) {
-        if (layout) break;
-        ctx.frame = edgeFrame(footprint, side);
-        layout = planLayout(ctx, inner, floors + towerFloors, rng);
-    }
-    if (!layout) {
-        floors = 1, towerFloors = 0;
-        ctx.frame = edgeFrame(footprint, frontEdge);
-        layout = planLayout(ctx, inner, 1, rng);
-    }
-    ctx.layout = *layout;
-    // A tower needs a corridor with rooms on both sides whose stairs survive the setback.
-    Polygon2 towerFootprint, towerInner;
-    if (towerFloors > 0) {
-        towerFootprint = dropShortEdges(simplifyPolygon(insetPolygon(footprint, br.towerSetback), 0.01), kMinEdge);
-        bool ok = ctx.layout.kind == LayoutKind::DoubleLoaded && ctx.layout.hasStairs && towerFootprint.size() >= 3 &&
-                  isConvex(towerFootprint);
-        if (ok) {
-            towerInner = mitreOffset(towerFootprint, br.wallThickness);
-            ok = isConvex(towerInner);
-        }
-        if (ok) {
-            const PolygonFrame& f = ctx.frame;
-            const auto range = chord(towerInner, f.u, ctx.layout.corridor1 + glm::dot(f.origin, f.u), f.v);
-            const double vOrigin = glm::dot(f.origin, f.v);
-            ok = range && range->first - vOrigin < ctx.layout.stairs0 - 0.5 && range->second - vOrigin > ctx.layout.stairs1 + 0.5 &&
-                 !std::isinf(ctx.layout.stairs0) && !std::isinf(ctx.layout.stairs1);
-            const auto low = chord(towerInner, f.u, ctx.layout.corridor0 + glm::dot(f.origin, f.u), f.v);
-            ok = ok && low && low->second - low->first > 2.0;
-        }
-        if (!ok) towerFloors = 0, towerFootprint.clear(), towerInner.clear();
-    }
+    BuildingDraw draw = drawBuilding(recipe, rng);
+    chooseLayout(ctx, *base, frontEdge, draw, rng);
+    const std::optional<WallOutline> tower = draw.towerFloors > 0 ? towerOutline(ctx, footprint) : std::nullopt;
+    const int floors = draw.floors, towerFloors = tower ? draw.towerFloors : 0;
     b.floors = floors + towerFloors;
     b.baseFloors = floors;
     b.footprint = footprint;
-    b.towerFootprint = towerFootprint;
-    b.wallMaterial = style.wall;
+    if (tower) b.towerFootprint = tower->footprint;
+    b.wallMaterial = draw.style.wall;
     ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, 0.0);
-    for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(br, fl);
+    for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(recipe.buildings, fl);
 
-    Mesh& m0 = b.lod0;
-    Mesh& m1 = b.lod1;
-    MeshBuilder lod0(m0), lod1(m1);
-    Section base{footprint, inner, 0, floors, 0.0, ctx.floorY[floors]};
-    buildSection(ctx, base, style, towerFloors == 0, b, lod0, lod1);
-    if (towerFloors > 0) {
-        Section tower{towerFootprint, towerInner, floors, towerFloors, ctx.floorY[floors], ctx.floorY[b.floors]};
+    MeshBuilder lod0(b.lod0), lod1(b.lod1);
+    const Section baseSection{footprint, base->inner, 0, floors, 0.0, ctx.floorY[floors]};
+    buildSection(ctx, baseSection, draw.style, !tower, b, lod0, lod1);
+    if (tower) {
         // The base's roof: a flat terrace under the tower.
-        RoofSettings terrace;
-        terrace.type = RoofType::Flat;
-        terrace.parapetHeight = recipe.roofs.parapetHeight;
-        terrace.parapetWidth = recipe.roofs.parapetWidth;
-        terrace.slabThickness = ir.slabThickness;
-        terrace.wallMaterial = style.wall;
-        const Roof terraceRoof = buildRoof(footprint, ctx.floorY[floors], terrace);
-        appendMesh(m0, terraceRoof.mesh);
-        appendMesh(m1, terraceRoof.mesh);
-        buildSection(ctx, tower, style, true, b, lod0, lod1);
+        addRoof(b, buildRoof(footprint, ctx.floorY[floors], roofSettings(recipe, RoofType::Flat, draw.style)));
+        const Section towerSection{tower->footprint, tower->inner, floors, towerFloors, ctx.floorY[floors],
+                                   ctx.floorY[b.floors]};
+        buildSection(ctx, towerSection, draw.style, true, b, lod0, lod1);
     }
-    // The roof over the top section.
-    const Polygon2& top = towerFloors > 0 ? towerFootprint : footprint;
-    RoofSettings rs;
-    rs.type = static_cast<RoofType>(roofIndex);
-    if (b.floors > recipe.roofs.maxPitchedFloors || towerFloors > 0) rs.type = RoofType::Flat;
-    rs.pitch = recipe.roofs.pitch;
-    rs.parapetHeight = recipe.roofs.parapetHeight;
-    rs.parapetWidth = recipe.roofs.parapetWidth;
-    rs.slabThickness = ir.slabThickness;
-    rs.wallMaterial = style.wall;
-    // The ridge of a gable runs along the street; a shed rises towards it. (The street edge,
-    // not the layout's frame: floors may be laid out from a side edge.)
+    // Tall buildings and towers get flat roofs.
+    const Polygon2& top = tower ? tower->footprint : footprint;
+    const bool flat = b.floors > recipe.roofs.maxPitchedFloors || tower;
     const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
-    rs.frontEdge = bestEdge(top, [&](glm::dvec2, glm::dvec2, glm::dvec2 dir) {
-        return glm::dot(dir, streetDir) > 0.99 ? 0.0 : -INFINITY;  // the first edge along the street
-    });
-    // A shed rises over the whole depth: keep it a lean-to, not a wedge.
-    if (rs.type == RoofType::Shed) {
-        const PolygonFrame depth = edgeFrame(top, rs.frontEdge);
-        rs.pitch = std::min(rs.pitch, kMaxShedRise / std::max(1.0, depth.vMax - depth.vMin));
-    }
+    const RoofSettings rs = topRoofSettings(recipe, draw.style, flat ? RoofType::Flat : draw.roof, top, streetDir);
     const Roof roof = buildRoof(top, ctx.floorY[b.floors], rs);
-    appendMesh(m0, roof.mesh);
-    appendMesh(m1, roof.mesh);
+    addRoof(b, roof);
     b.roof = rs.type;
     b.height = ctx.floorY[b.floors] + roof.height;
-    // Stairs join the stairs rooms of consecutive floors.
-    for (std::size_t i = 0; i < b.rooms.size(); ++i) {
-        if (b.rooms[i].kind != RoomKind::Stairs) continue;
-        for (std::size_t j = i + 1; j < b.rooms.size(); ++j)
-            if (b.rooms[j].kind == RoomKind::Stairs && b.rooms[j].floor == b.rooms[i].floor + 1) {
-                b.doors.push_back({b.rooms[i].id, b.rooms[j].id, true, centroid(b.rooms[i].polygon)});
-                break;
-            }
-    }
+    joinStairs(b);
     return b;
 }
 
