@@ -55,6 +55,17 @@ double valueNoise(std::uint64_t seed, glm::dvec2 p) {
     return a + (b - a) * ty;
 }
 
+// The y of a line running west to east (x ascending) at x: linear between its points, level
+// beyond its ends, -infinity when it is empty (the coast and the promenade without a sea).
+double yAt(std::span<const glm::dvec2> line, double x) {
+    if (line.empty()) return -std::numeric_limits<double>::infinity();
+    if (x <= line.front().x) return line.front().y;
+    if (x >= line.back().x) return line.back().y;
+    const auto it = std::upper_bound(line.begin(), line.end(), x, [](double v, glm::dvec2 p) { return v < p.x; });
+    const glm::dvec2 b = *it, a = *(it - 1);
+    return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
+}
+
 // ---------------------------------------------------------------------------------------
 // The land: the city rectangle north of the promenade's centre line.
 
@@ -62,15 +73,7 @@ struct Land {
     glm::dvec2 size{0.0};
     std::vector<glm::dvec2> promenade;  // centre line, west to east; empty without a sea
 
-    double promenadeY(double x) const {
-        if (promenade.empty()) return -std::numeric_limits<double>::infinity();
-        if (x <= promenade.front().x) return promenade.front().y;
-        if (x >= promenade.back().x) return promenade.back().y;
-        const auto it = std::upper_bound(promenade.begin(), promenade.end(), x,
-                                         [](double v, glm::dvec2 p) { return v < p.x; });
-        const glm::dvec2 b = *it, a = *(it - 1);
-        return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
-    }
+    double promenadeY(double x) const { return yAt(promenade, x); }
     bool contains(glm::dvec2 p) const {
         return p.x > 0.0 && p.x < size.x && p.y > 0.0 && p.y < size.y && p.y > promenadeY(p.x);
     }
@@ -699,15 +702,7 @@ void addLots(CityPlan& plan, const CityRecipe& recipe, std::uint64_t seed, const
 
 }  // namespace
 
-double coastY(const CityPlan& plan, double x) {
-    const std::vector<glm::dvec2>& c = plan.coastline;
-    if (c.empty()) return -std::numeric_limits<double>::infinity();
-    if (x <= c.front().x) return c.front().y;
-    if (x >= c.back().x) return c.back().y;
-    const auto it = std::upper_bound(c.begin(), c.end(), x, [](double v, glm::dvec2 p) { return v < p.x; });
-    const glm::dvec2 b = *it, a = *(it - 1);
-    return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
-}
+double coastY(const CityPlan& plan, double x) { return yAt(plan.coastline, x); }
 
 CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size, const ProgressFn& progress) {
     if (!(std::isfinite(size.x) && std::isfinite(size.y) && size.x > 0.0 && size.y > 0.0))
