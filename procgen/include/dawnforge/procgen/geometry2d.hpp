@@ -63,8 +63,9 @@ double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir)
 // A convex polygon moved inward by `distance` along each edge's normal (outward when
 // negative), corners mitred; `distance` must be small against the edges.
 Polygon2 mitreOffset(std::span<const glm::dvec2> convex, double distance);
-// Drops vertices of a convex polygon, each time the end of the shortest edge that costs the
-// less area (so the polygon only shrinks), until every edge is at least `minEdge` or three are left.
+// Drops vertices of a convex polygon, one end of its shortest edge at a time (the end whose
+// loss costs less area; the polygon only shrinks), until every edge is at least `minEdge`
+// long or three vertices are left.
 Polygon2 dropShortEdges(Polygon2 convex, double minEdge);
 // Removes consecutive vertices closer than `epsilon` and vertices whose edges are
 // collinear within `epsilon` (distance of the vertex from its neighbours' chord).
