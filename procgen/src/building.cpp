@@ -16,7 +16,7 @@
 // faces meet vertex to vertex, corners included.
 #include <dawnforge/procgen/building.hpp>
 #include "mesh_builder.hpp"
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/seed.hpp>

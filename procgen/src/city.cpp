@@ -1,6 +1,6 @@
 // The district: plan, ground, buildings (in parallel, one sub-seed each), report and scene.
 #include <dawnforge/procgen/city.hpp>
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 #include "mesh_builder.hpp"
 
 #include <dawnforge/core/error.hpp>

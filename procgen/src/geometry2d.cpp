@@ -1,5 +1,4 @@
 #include <dawnforge/procgen/geometry2d.hpp>
-#include <dawnforge/procgen/materials.hpp>
 
 #include <dawnforge/core/error.hpp>
 
@@ -7,14 +6,6 @@
 #include <cmath>
 
 namespace dawnforge::procgen {
-
-const char* materialName(std::uint8_t id) {
-    static const char* const kNames[16] = {
-        "asphalt", "paving", "brick", "concrete", "plaster", "glass", "metal", "trim",
-        "roof_tiles", "roof_flat", "wood", "interior_wall", "floor", "ground", "sand", "rubble"};
-    DAWNFORGE_ASSERT(id < 16, "material id above 15");
-    return kNames[id];
-}
 
 double signedArea(std::span<const glm::dvec2> polygon) {
     double sum = 0.0;
