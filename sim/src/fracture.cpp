@@ -10,8 +10,8 @@
 // in metres and the interior material; cut planes give the bond graph.
 //
 // This is the only translation unit of sim that includes CGAL.
+#include "piece_surface.hpp"
 #include "rough.hpp"
-#include "tetrahedralize.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -188,67 +188,102 @@ Input makeInput(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys)
 
 // ---------------------------------------------------------------- seeds
 
-glm::dvec3 samplePointInTetrahedron(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                                    const glm::dvec3& d, Rng& rng) {
-    // Rocchini & Cignoni, "Generating random points in a tetrahedron" (folding the cube).
-    double s = rng.uniform(), t = rng.uniform(), u = rng.uniform();
-    if (s + t > 1.0) {
-        s = 1.0 - s;
-        t = 1.0 - t;
+// Where seeds may fall: a grid over the bounding box whose cells are known to lie inside the
+// volume, or to meet the surface (conservatively: a cell overlapping a triangle's bounding
+// box). Cells neither inside nor meeting the surface lie outside and are never sampled, so
+// thin and sparse shapes cost no more tests than solid ones.
+struct SeedGrid {
+    glm::dvec3 lo{0.0}, cell{0.0};
+    glm::ivec3 n{1};
+    std::vector<std::uint32_t> candidates;  // cell indices, inside or boundary
+    std::vector<char> boundary;             // per cell
+
+    std::size_t index(glm::ivec3 c) const { return (std::size_t(c.z) * std::size_t(n.y) + std::size_t(c.y)) * std::size_t(n.x) + std::size_t(c.x); }
+    glm::ivec3 coords(std::size_t i) const {
+        return {int(i % std::size_t(n.x)), int(i / std::size_t(n.x) % std::size_t(n.y)), int(i / (std::size_t(n.x) * std::size_t(n.y)))};
     }
-    if (t + u > 1.0) {
-        const double tmp = u;
-        u = 1.0 - s - t;
-        t = 1.0 - tmp;
-    } else if (s + t + u > 1.0) {
-        const double tmp = u;
-        u = s + t + u - 1.0;
-        s = 1.0 - t - tmp;
+    glm::ivec3 cellOf(const glm::dvec3& p) const {
+        return glm::clamp(glm::ivec3(glm::floor((p - lo) / cell)), glm::ivec3(0), n - 1);
     }
-    return a + s * (b - a) + t * (c - a) + u * (d - a);
+};
+
+// Marks every cell overlapping a triangle's bounding box as boundary.
+void markSurfaceCells(const Input& in, SeedGrid& g) {
+    for (Face f : in.sm.faces()) {
+        const CGAL::Bbox_3 b = PMP::face_bbox(f, in.sm);
+        const glm::ivec3 a = g.cellOf({b.xmin(), b.ymin(), b.zmin()}), c = g.cellOf({b.xmax(), b.ymax(), b.zmax()});
+        for (int z = a.z; z <= c.z; ++z)
+            for (int y = a.y; y <= c.y; ++y)
+                for (int x = a.x; x <= c.x; ++x) g.boundary[g.index({x, y, z})] = 1;
+    }
 }
 
+// Sorts the cells that meet no triangle into regions (6-connected); each region is wholly
+// inside or wholly outside, so one exact test of its first cell's centre decides it.
+void addInsideRegions(SeedGrid& g, const CGAL::Side_of_triangle_mesh<SM, K>& inside) {
+    std::vector<char> seen(g.boundary.begin(), g.boundary.end());
+    std::vector<std::uint32_t> region, stack;
+    for (std::size_t start = 0; start < seen.size(); ++start) {
+        if (seen[start]) continue;
+        region.clear();
+        stack.assign(1, std::uint32_t(start));
+        seen[start] = 1;
+        while (!stack.empty()) {
+            const std::uint32_t i = stack.back();
+            stack.pop_back();
+            region.push_back(i);
+            const glm::ivec3 c = g.coords(i);
+            for (int axis = 0; axis < 3; ++axis)
+                for (int step : {-1, 1}) {
+                    glm::ivec3 d = c;
+                    d[axis] += step;
+                    if (d[axis] < 0 || d[axis] >= g.n[axis] || seen[g.index(d)]) continue;
+                    seen[g.index(d)] = 1;
+                    stack.push_back(std::uint32_t(g.index(d)));
+                }
+        }
+        const glm::dvec3 centre = g.lo + (glm::dvec3(g.coords(region.front())) + 0.5) * g.cell;
+        if (inside(toPoint(centre)) == CGAL::ON_BOUNDED_SIDE) g.candidates.insert(g.candidates.end(), region.begin(), region.end());
+    }
+    for (std::size_t i = 0; i < g.boundary.size(); ++i)
+        if (g.boundary[i]) g.candidates.push_back(std::uint32_t(i));
+    std::sort(g.candidates.begin(), g.candidates.end());
+}
+
+SeedGrid seedGrid(const Input& in, const CGAL::Side_of_triangle_mesh<SM, K>& inside) {
+    SeedGrid g;
+    const glm::dvec3 lo(in.bbox.xmin(), in.bbox.ymin(), in.bbox.zmin()), hi(in.bbox.xmax(), in.bbox.ymax(), in.bbox.zmax());
+    const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
+    constexpr double kCellsAlongLongest = 32.0;
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    g.n = glm::max(glm::ivec3(glm::ceil(extent / longest * kCellsAlongLongest)), glm::ivec3(1));
+    g.lo = lo;
+    g.cell = extent / glm::dvec3(g.n);
+    g.boundary.assign(std::size_t(g.n.x) * std::size_t(g.n.y) * std::size_t(g.n.z), 0);
+    markSurfaceCells(in, g);
+    addInsideRegions(g, inside);
+    return g;
+}
+
+// Seeds uniform in the volume (denser near the impact when given): points drawn uniformly in
+// the candidate cells, kept when the exact inside test says so (always, in a cell that meets
+// no triangle). Rejection keeps exactly the points of the volume, so the density is uniform.
 std::vector<glm::dvec3> sampleSeeds(const Input& in, int count, std::uint64_t seed,
                                     const std::optional<glm::dvec3>& impact, double radius, double boost) {
-    std::vector<glm::dvec3> points;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    for (Vertex v : in.sm.vertices()) points.push_back(toGlm(in.sm.point(v)));
-    for (Face f : in.sm.faces()) {
-        std::array<std::uint32_t, 3> t{};
-        int k = 0;
-        for (Vertex v : CGAL::vertices_around_face(in.sm.halfedge(f), in.sm)) t[std::size_t(k++)] = std::uint32_t(v);
-        triangles.push_back(t);
-    }
-    const detail::Tetrahedra tets = detail::tetrahedralize(points, triangles);
-
-    // TetGen also fills closed cavities: keep the tetrahedra whose centroid is inside.
-    CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
-    std::vector<double> cumulative;
-    std::vector<std::size_t> kept;
-    double total = 0.0;
-    for (std::size_t t = 0; t < tets.tets.size(); ++t) {
-        const auto& q = tets.tets[t];
-        const glm::dvec3 &a = tets.points[q[0]], &b = tets.points[q[1]], &c = tets.points[q[2]], &d = tets.points[q[3]];
-        const double volume = std::abs(glm::dot(b - a, glm::cross(c - a, d - a))) / 6.0;
-        if (volume <= 0.0 || inside(toPoint(0.25 * (a + b + c + d))) != CGAL::ON_BOUNDED_SIDE) continue;
-        total += volume;
-        cumulative.push_back(total);
-        kept.push_back(t);
-    }
-    if (kept.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
-
+    const CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
+    const SeedGrid grid = seedGrid(in, inside);
+    if (grid.candidates.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
     Rng rng(deriveSeed(seed, "fracture-seeds"));
     std::vector<glm::dvec3> seeds;
     seeds.reserve(std::size_t(count));
     const double maxWeight = 1.0 + (impact ? boost : 0.0);
     for (std::size_t attempt = 0; int(seeds.size()) < count; ++attempt) {
         if (attempt > 1000u * std::size_t(count) + 100000u)
-            throw InputError("fracture: could not place the seeds (is the impact far outside the mesh?)");
-        const double pick = rng.uniform(0.0, total);
-        const std::size_t i = std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
-        const auto& q = tets.tets[kept[std::min(i, kept.size() - 1)]];
-        const glm::dvec3 p =
-            samplePointInTetrahedron(tets.points[q[0]], tets.points[q[1]], tets.points[q[2]], tets.points[q[3]], rng);
+            throw InputError("fracture: could not place the seeds (is the impact far outside the mesh, or the mesh flat?)");
+        const std::uint32_t cell = grid.candidates[rng.below(grid.candidates.size())];
+        const glm::dvec3 u(rng.uniform(), rng.uniform(), rng.uniform());
+        const glm::dvec3 p = grid.lo + (glm::dvec3(grid.coords(cell)) + u) * grid.cell;
+        if (grid.boundary[cell] && inside(toPoint(p)) != CGAL::ON_BOUNDED_SIDE) continue;
         if (impact) {  // rejection: density 1 + boost·exp(-(d/r)^2)
             const double d = glm::length(p - *impact) / std::max(radius, 1e-9);
             if (rng.uniform() * maxWeight > 1.0 + boost * std::exp(-d * d)) continue;
@@ -463,15 +498,33 @@ struct Triangle {
     Origin origin;
 };
 
-// A piece's corners rounded to float, the precision of the files. CGAL may compute an
-// intersection point along another path in another run and land one ulp of a double
-// away; everything downstream (order, flips, mass properties) reads the rounded points.
+// The grid every corner of every piece is rounded to. Its spacing h is the power of two for
+// which every world coordinate of the input and every coordinate relative to a piece's pivot
+// (itself on the grid) is a multiple of h of magnitude below 2^24·h: exactly a float. So the
+// file holds exactly the points that were decided on (no second rounding can collapse an
+// edge), and exact integer arithmetic on grid coordinates can check and mend the surface.
+// Rounding also absorbs CGAL's run-to-run differences in the last bits of intersection points.
+struct Grid {
+    double h = 1.0;
+    std::int64_t key(double x) const { return std::llround(x / h); }
+    glm::i64vec3 key(const glm::dvec3& p) const { return {key(p.x), key(p.y), key(p.z)}; }
+    glm::dvec3 at(const glm::i64vec3& k) const { return glm::dvec3(k) * h; }
+    glm::dvec3 snap(const glm::dvec3& p) const { return at(key(p)); }
+};
+
+Grid gridFor(const Mesh& mesh) {
+    const Bounds b = computeBounds(mesh.positions);
+    const double reach = std::max({std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z), std::abs(b.max.x),
+                                   std::abs(b.max.y), std::abs(b.max.z), glm::length(b.max - b.min), 1e-30});
+    return {std::ldexp(1.0, std::ilogb(reach) + 1 - 24)};
+}
+
+// A piece's corners rounded to the grid; everything downstream (order, flips, mass
+// properties, the file) reads the rounded points.
 struct Snapped {
     const SM& sm;
-    Point operator()(Vertex v) const {
-        const Point& p = sm.point(v);
-        return {double(float(p.x())), double(float(p.y())), double(float(p.z()))};
-    }
+    const Grid& grid;
+    Point operator()(Vertex v) const { return toPoint(grid.snap(toGlm(sm.point(v)))); }
 };
 
 // A triangle's corners, rotated so that the lexicographically smallest comes first
@@ -570,93 +623,95 @@ void canonicalTriangulation(const Snapped& point, std::vector<Triangle>& tris) {
     for (std::size_t i = 0; i < tris.size(); ++i) tris[i] = keyed[i].second;
 }
 
-RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input& in,
-                      const std::vector<CutPlane>& planes, std::int64_t ownCell, const FractureSettings& settings) {
+// The attributes of one corner of a piece's triangle: an input triangle's normal, UV and
+// material interpolated at the corner; a cut face's plane normal, planar UVs in metres and
+// the interior material.
+struct Corner {
+    glm::vec3 normal{0.0f};
+    glm::vec2 uv{0.0f};
+    std::uint8_t material = 0;
+};
+
+std::array<Corner, 3> cornerAttributes(const std::array<glm::dvec3, 3>& p, Origin origin, const Input& in,
+                                       const std::vector<CutPlane>& planes, const FractureSettings& settings) {
+    std::array<Corner, 3> out{};
+    if (origin >= 0) {
+        const Mesh& src = *in.mesh;
+        const std::size_t t = std::size_t(origin);
+        const std::uint32_t i0 = src.indices[3 * t], i1 = src.indices[3 * t + 1], i2 = src.indices[3 * t + 2];
+        const glm::dvec3 a(src.positions[i0]), b(src.positions[i1]), c(src.positions[i2]);
+        const glm::dvec3 flat = glm::normalize(glm::cross(b - a, c - a));
+        for (std::size_t corner = 0; corner < 3; ++corner) {
+            const glm::dvec3 w = barycentric(p[corner], a, b, c);
+            out[corner].material = src.materialIds.empty() ? 0 : src.materialIds[i0];
+            out[corner].normal = src.normals.empty() ? glm::vec3(flat)
+                                                     : glm::vec3(glm::normalize(w.x * glm::dvec3(src.normals[i0]) +
+                                                                                w.y * glm::dvec3(src.normals[i1]) +
+                                                                                w.z * glm::dvec3(src.normals[i2])));
+            if (!src.uv0.empty())
+                out[corner].uv = glm::vec2(w.x * glm::dvec2(src.uv0[i0]) + w.y * glm::dvec2(src.uv0[i1]) +
+                                           w.z * glm::dvec2(src.uv0[i2]));
+        }
+    } else {
+        const CutPlane& plane = planes[std::size_t(-1 - origin)];
+        glm::dvec3 u, v;
+        planeBasis(plane.normal, u, v);
+        for (std::size_t corner = 0; corner < 3; ++corner)
+            out[corner] = {glm::vec3(plane.normal),
+                           glm::vec2(glm::dot(p[corner], u), glm::dot(p[corner], v)) / float(settings.interiorUvScale),
+                           settings.interiorMaterial};
+    }
+    return out;
+}
+
+// One piece from one part of a cell's surface, its corners on the grid.
+RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<const glm::i64vec3> points,
+                    const Grid& grid, const Input& in, const std::vector<CutPlane>& planes, std::int64_t ownCell,
+                    const FractureSettings& settings) {
     RawPiece piece;
     piece.cells.insert(ownCell);
-    const Mesh& src = *in.mesh;
-    const auto o = origins(sm);
+    piece.mesh.name = "piece";
     struct Key {
-        std::uint32_t vertex;
+        std::uint32_t point;
         std::array<float, 5> attributes;  // normal, uv
         std::uint8_t material;
         bool operator<(const Key& k) const {
-            return std::tie(vertex, attributes, material) < std::tie(k.vertex, k.attributes, k.material);
+            return std::tie(point, attributes, material) < std::tie(k.point, k.attributes, k.material);
         }
     };
     std::map<Key, std::uint32_t> vertexOf;
-    std::map<Vertex, std::uint32_t> pointOf;
-    piece.mesh.name = "piece";
-    std::vector<Triangle> tris;
-    tris.reserve(faces.size());
-    for (Face f : faces) {
-        Triangle t{{}, o[f]};
-        int k = 0;
-        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
-        tris.push_back(t);
-    }
-    const Snapped point{sm};
-    canonicalTriangulation(point, tris);
-    for (const Triangle& tri : tris) {
-        const Origin origin = tri.origin;
-        const std::array<Vertex, 3>& vs = tri.v;
-        std::array<glm::dvec3, 3> p{toGlm(point(vs[0])), toGlm(point(vs[1])), toGlm(point(vs[2]))};
-        for (const Vertex v : vs) {
+    std::map<std::uint32_t, std::uint32_t> pointOf;
+    for (const detail::GridTriangle& tri : part) {
+        const std::array<glm::dvec3, 3> p{grid.at(points[tri.v[0]]), grid.at(points[tri.v[1]]), grid.at(points[tri.v[2]])};
+        for (std::uint32_t v : tri.v) {
             auto [it, inserted] = pointOf.try_emplace(v, std::uint32_t(piece.points.size()));
-            if (inserted) piece.points.push_back(toGlm(point(v)));
+            if (inserted) piece.points.push_back(grid.at(points[v]));
             piece.pointIndices.push_back(it->second);
         }
-
-        std::array<glm::vec3, 3> normal{};
-        std::array<glm::vec2, 3> uv{};
-        std::uint8_t material = settings.interiorMaterial;
+        const std::array<Corner, 3> corners = cornerAttributes(p, tri.origin, in, planes, settings);
         std::int64_t key = -1;
-        if (origin >= 0) {  // the input surface: interpolate the input triangle's attributes
-            const std::size_t t = std::size_t(origin);
-            const std::uint32_t i0 = src.indices[3 * t], i1 = src.indices[3 * t + 1], i2 = src.indices[3 * t + 2];
-            const glm::dvec3 a(src.positions[i0]), b(src.positions[i1]), c(src.positions[i2]);
-            const glm::dvec3 flat = glm::normalize(glm::cross(b - a, c - a));
-            material = src.materialIds.empty() ? 0 : src.materialIds[i0];
-            key = in.triangleKeys ? (*in.triangleKeys)[t] : -1;
-            for (std::size_t corner = 0; corner < 3; ++corner) {
-                const glm::dvec3 w = barycentric(p[corner], a, b, c);
-                normal[corner] = src.normals.empty()
-                                     ? glm::vec3(flat)
-                                     : glm::vec3(glm::normalize(w.x * glm::dvec3(src.normals[i0]) +
-                                                                w.y * glm::dvec3(src.normals[i1]) +
-                                                                w.z * glm::dvec3(src.normals[i2])));
-                if (!src.uv0.empty())
-                    uv[corner] = glm::vec2(w.x * glm::dvec2(src.uv0[i0]) + w.y * glm::dvec2(src.uv0[i1]) +
-                                           w.z * glm::dvec2(src.uv0[i2]));
-            }
-        } else if (origin != kBoxOrigin) {  // a cut face: flat, planar UVs in metres, interior material
-            const CutPlane& plane = planes[std::size_t(-1 - origin)];
-            glm::dvec3 u, v;
-            planeBasis(plane.normal, u, v);
-            for (std::size_t corner = 0; corner < 3; ++corner) {
-                normal[corner] = glm::vec3(plane.normal);
-                uv[corner] = glm::vec2(glm::dot(p[corner], u), glm::dot(p[corner], v)) / float(settings.interiorUvScale);
-            }
-            key = plane.neighbour;
+        if (tri.origin >= 0) {
+            key = in.triangleKeys ? (*in.triangleKeys)[std::size_t(tri.origin)] : -1;
+        } else if (tri.origin != kBoxOrigin) {
+            key = planes[std::size_t(-1 - tri.origin)].neighbour;
         }
         if (key >= 0) {
             CutGroup& g = piece.cuts[key];
             g.add(p[0], p[1], p[2], 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
-            g.normal = origin < 0 ? planes[std::size_t(-1 - origin)].normal
-                                  : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
+            g.normal = tri.origin < 0 ? planes[std::size_t(-1 - tri.origin)].normal
+                                      : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
         }
         piece.triangleKeys.push_back(key);
         for (std::size_t corner = 0; corner < 3; ++corner) {
-            const Key vk{std::uint32_t(vs[corner]),
-                         {normal[corner].x, normal[corner].y, normal[corner].z, uv[corner].x, uv[corner].y},
-                         material};
+            const Corner& c = corners[corner];
+            const Key vk{tri.v[corner], {c.normal.x, c.normal.y, c.normal.z, c.uv.x, c.uv.y}, c.material};
             auto [it, inserted] = vertexOf.try_emplace(vk, std::uint32_t(piece.mesh.positions.size()));
             if (inserted) {
                 piece.mesh.positions.push_back(glm::vec3(p[corner]));
                 piece.worldPositions.push_back(p[corner]);
-                piece.mesh.normals.push_back(normal[corner]);
-                piece.mesh.uv0.push_back(uv[corner]);
-                piece.mesh.materialIds.push_back(material);
+                piece.mesh.normals.push_back(c.normal);
+                piece.mesh.uv0.push_back(c.uv);
+                piece.mesh.materialIds.push_back(c.material);
             }
             piece.mesh.indices.push_back(it->second);
         }
@@ -665,31 +720,40 @@ RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input&
     return piece;
 }
 
-// Splits a cell's result into volumes (a cell can cut the mesh into several parts; a
-// part with a cavity is one volume with two shells).
-std::vector<std::vector<Face>> volumesOf(SM& sm) {
-    std::vector<std::vector<Face>> out;
-    if (sm.number_of_faces() == 0) return out;
-    auto component = sm.add_property_map<Face, std::size_t>("f:cc", 0).first;
-    const std::size_t shells = PMP::connected_components(sm, component);
-    if (shells > 1) {
-        auto volume = sm.add_property_map<Face, std::size_t>("f:volume", 0).first;
-        const std::size_t volumes = PMP::volume_connected_components(sm, volume);
-        out.resize(volumes);
-        for (Face f : sm.faces()) out[volume[f]].push_back(f);
-    } else {
-        out.emplace_back(sm.faces().begin(), sm.faces().end());
+// The pieces of one cell: its surface in canonical triangles with corners on the grid, welded
+// by grid point, mended (detail::cleanSurface) and split into closed parts: the volumes a
+// cell cuts out of a non-convex mesh, and the parts that rounding left touching.
+std::vector<RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
+                                    std::int64_t ownCell, const FractureSettings& settings) {
+    const auto o = origins(sm);
+    std::vector<Triangle> tris;
+    tris.reserve(sm.number_of_faces());
+    for (Face f : sm.faces()) {
+        Triangle t{{}, o[f]};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
+        tris.push_back(t);
     }
-    // Volumes in the order of their smallest corner: independent of CGAL's face order.
-    const Snapped point{sm};
-    auto smallest = [&](const std::vector<Face>& faces) {
-        Point m = point(sm.target(sm.halfedge(faces.front())));
-        for (Face f : faces)
-            for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) m = std::min(m, point(v));
-        return m;
-    };
-    std::sort(out.begin(), out.end(), [&](const auto& a, const auto& b) { return smallest(a) < smallest(b); });
-    return out;
+    const Snapped point{sm, grid};
+    canonicalTriangulation(point, tris);
+    std::vector<glm::i64vec3> points;
+    std::map<std::array<std::int64_t, 3>, std::uint32_t> idOf;
+    std::vector<detail::GridTriangle> welded;
+    welded.reserve(tris.size());
+    for (const Triangle& t : tris) {
+        detail::GridTriangle g{{}, t.origin};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const glm::i64vec3 q = grid.key(toGlm(sm.point(t.v[k])));
+            const auto [it, inserted] = idOf.try_emplace({q.x, q.y, q.z}, std::uint32_t(points.size()));
+            if (inserted) points.push_back(q);
+            g.v[k] = it->second;
+        }
+        welded.push_back(g);
+    }
+    std::vector<RawPiece> pieces;
+    for (const auto& part : detail::cleanSurface(points, std::move(welded)).parts)
+        pieces.push_back(buildPiece(part, points, grid, in, planes, ownCell, settings));
+    return pieces;
 }
 
 struct Call {
@@ -701,7 +765,8 @@ struct Call {
 // Rough pieces re-mesh the whole surface, so their faces name only the cuts made here: a
 // piece re-fractured by `levels` keeps bonds among its own sub-pieces, not outward.
 std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
-                                    std::int64_t cellBase, double diagonal, const FractureSettings& settings) {
+                                    std::int64_t cellBase, double diagonal, const Grid& grid,
+                                    const FractureSettings& settings) {
     std::vector<detail::RoughCell> rough(seeds.size());
     for (std::size_t i = 0; i < seeds.size(); ++i) {
         for (const CutPlane& c : cells.planes[i]) {
@@ -733,7 +798,10 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
             p.mesh = std::move(rp.mesh);
             p.mesh.name = "piece";
             p.triangleKeys = std::move(rp.triangleKeys);
-            p.worldPositions.assign(p.mesh.positions.begin(), p.mesh.positions.end());
+            for (glm::vec3& q : p.mesh.positions) {
+                p.worldPositions.push_back(grid.snap(glm::dvec3(q)));
+                q = glm::vec3(p.worldPositions.back());
+            }
             p.points = p.worldPositions;
             p.pointIndices = p.mesh.indices;
             for (std::size_t t = 0; t < p.triangleKeys.size(); ++t) {
@@ -757,7 +825,7 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 // Seeds are settings.points, or sampled from the surface this call builds anyway.
 Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::int64_t cellBase,
-                  const FractureSettings& settings, const ProgressFn& progress) {
+                  const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
     Input in = makeInput(mesh, triangleKeys);
     std::vector<glm::dvec3> seeds = !settings.points.empty()
                                         ? settings.points
@@ -770,7 +838,7 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
 
     if (settings.roughness > 0.0) {
         Call call;
-        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, settings);
+        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, grid, settings);
         call.seeds = std::move(seeds);
         return call;
     }
@@ -781,11 +849,10 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     std::iota(all.begin(), all.end(), 0u);
     hierarchy.process(in.sm, std::move(all));
 
-    // Extract pieces in cell order, volumes within a cell in CGAL's (deterministic) order.
+    // Pieces in cell order, the parts of a cell in the order of their smallest corner.
     std::vector<std::vector<RawPiece>> perCell(seeds.size());
     tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
-        for (const std::vector<Face>& faces : volumesOf(results[i]))
-            perCell[i].push_back(extractPiece(results[i], faces, in, cells.planes[i], cellBase + std::int64_t(i), settings));
+        perCell[i] = extractPieces(results[i], in, grid, cells.planes[i], cellBase + std::int64_t(i), settings);
         results[i] = SM();
     });
     Call call;
@@ -972,7 +1039,8 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
 
     // Re-fracture levels each take a share of the progress bar.
     const double share = 1.0 / double(1 + settings.levels);
-    Call top = fractureOnce(mesh, nullptr, 0, settings,
+    const Grid grid = gridFor(mesh);
+    Call top = fractureOnce(mesh, nullptr, 0, grid, settings,
                             [&](double f) { return progress(f * share); });
     result.seeds = top.seeds;
     std::vector<RawPiece> pieces = std::move(top.pieces);
@@ -992,7 +1060,7 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
             sub.impact.reset();
             sub.points.clear();
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
-            Call call = fractureOnce(p.mesh, &p.triangleKeys, nextCell, sub, noProgress);
+            Call call = fractureOnce(p.mesh, &p.triangleKeys, nextCell, grid, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
             for (RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
@@ -1034,11 +1102,12 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
         FracturePiece& piece = result.pieces[i];
         piece.name = pieceName(i);
         piece.mass = raw.mass;
+        piece.mass.centerOfMass = grid.snap(raw.mass.centerOfMass);  // the pivot: on the grid, so the mesh is exact
         piece.cell = std::uint32_t(*raw.cells.begin());
         piece.level = raw.level;
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
-        for (std::size_t v = 0; v < piece.mesh.positions.size(); ++v)  // the pivot is the centre of mass
+        for (std::size_t v = 0; v < piece.mesh.positions.size(); ++v)
             piece.mesh.positions[v] = glm::vec3(raw.worldPositions[v] - piece.mass.centerOfMass);
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
         piece.closed = inspectMesh(piece.mesh).closed;
