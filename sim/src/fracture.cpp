@@ -11,6 +11,7 @@
 //
 // This is the only translation unit of sim that includes CGAL.
 #include "piece_surface.hpp"
+#include "pieces.hpp"
 #include "rough.hpp"
 
 #include <dawnforge/core/error.hpp>
@@ -156,13 +157,13 @@ CGAL::Bbox_3 expanded(const CGAL::Bbox_3& b, double m) {
 // The input surface of one fracture call: welded positions and the triangles' attributes.
 struct Input {
     const Mesh* mesh;
-    const std::vector<std::int64_t>* triangleKeys;  // per input triangle: neighbour cell of a cut face, or -1
+    const std::vector<detail::PlaneKey>* planes;  // per input triangle: the cut plane it lies on, or none
     SM sm;
     CGAL::Bbox_3 bbox;
 };
 
-Input makeInput(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys) {
-    Input in{&mesh, triangleKeys, {}, {}};
+Input makeInput(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes) {
+    Input in{&mesh, planes, {}, {}};
     const std::vector<std::uint32_t> canonical = weldByPosition(mesh.positions);
     std::vector<Vertex> vertexOf(mesh.positions.size());
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
@@ -448,33 +449,6 @@ struct Hierarchy {
 
 // ---------------------------------------------------------------- pieces
 
-struct CutGroup {
-    double area = 0.0;
-    glm::dvec3 weightedCentroid{0.0};
-    glm::dvec3 normal{0.0};
-    CGAL::Bbox_3 box;
-
-    // Adds triangle (a, b, c) of the given area (the caller has it already); not the normal.
-    void add(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double triangleArea) {
-        area += triangleArea;
-        weightedCentroid += triangleArea * (a + b + c) / 3.0;
-        for (const glm::dvec3& q : {a, b, c}) box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
-    }
-};
-
-// A piece as one fracture call makes it: world-space mesh and its cut faces by neighbour.
-struct RawPiece {
-    Mesh mesh;                                   // world space
-    std::vector<glm::dvec3> worldPositions;      // per mesh vertex, unrounded
-    std::vector<std::int64_t> triangleKeys;      // per triangle: neighbour cell across a cut face, or -1
-    std::vector<glm::dvec3> points;              // double-precision corners for mass properties
-    std::vector<std::uint32_t> pointIndices;
-    std::set<std::int64_t> cells;                // global cells it occupies
-    std::map<std::int64_t, CutGroup> cuts;       // by neighbour cell
-    std::uint32_t level = 0;
-    MassProperties mass;
-};
-
 glm::dvec3 barycentric(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const glm::dvec3 v0 = b - a, v1 = c - a, v2 = p - a;
     const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
@@ -498,25 +472,32 @@ struct Triangle {
     Origin origin;
 };
 
-// The grid every corner of every piece is rounded to. Its spacing h is the power of two for
-// which every world coordinate of the input and every coordinate relative to a piece's pivot
-// (itself on the grid) is a multiple of h of magnitude below 2^24·h: exactly a float. So the
-// file holds exactly the points that were decided on (no second rounding can collapse an
-// edge), and exact integer arithmetic on grid coordinates can check and mend the surface.
-// Rounding also absorbs CGAL's run-to-run differences in the last bits of intersection points.
+// The grid every corner of every piece is rounded to. Along each axis its spacing h is the
+// power of two for which every world coordinate of the input and every coordinate relative to
+// a piece's pivot (itself on the grid) is a multiple of h of magnitude below 2^24·h: exactly a
+// float, and the float spacing of the input's largest coordinates, which stay where they are.
+// So the file holds exactly the points that were decided on (no second rounding can collapse
+// an edge), and exact integer arithmetic on grid coordinates can check and mend the surface
+// (collinearity and orientation survive the per-axis scaling). Rounding also absorbs CGAL's
+// run-to-run differences in the last bits of intersection points.
 struct Grid {
-    double h = 1.0;
-    std::int64_t key(double x) const { return std::llround(x / h); }
-    glm::i64vec3 key(const glm::dvec3& p) const { return {key(p.x), key(p.y), key(p.z)}; }
+    glm::dvec3 h{1.0};
+    glm::i64vec3 key(const glm::dvec3& p) const {
+        return {std::llround(p.x / h.x), std::llround(p.y / h.y), std::llround(p.z / h.z)};
+    }
     glm::dvec3 at(const glm::i64vec3& k) const { return glm::dvec3(k) * h; }
     glm::dvec3 snap(const glm::dvec3& p) const { return at(key(p)); }
 };
 
 Grid gridFor(const Mesh& mesh) {
     const Bounds b = computeBounds(mesh.positions);
-    const double reach = std::max({std::abs(b.min.x), std::abs(b.min.y), std::abs(b.min.z), std::abs(b.max.x),
-                                   std::abs(b.max.y), std::abs(b.max.z), glm::length(b.max - b.min), 1e-30});
-    return {std::ldexp(1.0, std::ilogb(reach) + 1 - 24)};
+    Grid g;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double reach = std::max({std::abs(double(b.min[axis])), std::abs(double(b.max[axis])),
+                                       double(b.max[axis]) - double(b.min[axis]), 1e-30});
+        g.h[axis] = std::ldexp(1.0, std::ilogb(reach) + 1 - 24);
+    }
+    return g;
 }
 
 // A piece's corners rounded to the grid; everything downstream (order, flips, mass
@@ -665,11 +646,11 @@ std::array<Corner, 3> cornerAttributes(const std::array<glm::dvec3, 3>& p, Origi
 }
 
 // One piece from one part of a cell's surface, its corners on the grid.
-RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<const glm::i64vec3> points,
+detail::RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<const glm::i64vec3> points,
                     const Grid& grid, const Input& in, const std::vector<CutPlane>& planes, std::int64_t ownCell,
                     const FractureSettings& settings) {
-    RawPiece piece;
-    piece.cells.insert(ownCell);
+    detail::RawPiece piece;
+    piece.cell = ownCell;
     piece.mesh.name = "piece";
     struct Key {
         std::uint32_t point;
@@ -689,19 +670,13 @@ RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<con
             piece.pointIndices.push_back(it->second);
         }
         const std::array<Corner, 3> corners = cornerAttributes(p, tri.origin, in, planes, settings);
-        std::int64_t key = -1;
+        detail::PlaneKey plane = detail::kSurface;
         if (tri.origin >= 0) {
-            key = in.triangleKeys ? (*in.triangleKeys)[std::size_t(tri.origin)] : -1;
-        } else if (tri.origin != kBoxOrigin) {
-            key = planes[std::size_t(-1 - tri.origin)].neighbour;
+            if (in.planes) plane = (*in.planes)[std::size_t(tri.origin)];
+        } else if (tri.origin != kBoxOrigin && planes[std::size_t(-1 - tri.origin)].neighbour >= 0) {
+            plane = detail::planeKey(ownCell, planes[std::size_t(-1 - tri.origin)].neighbour);
         }
-        if (key >= 0) {
-            CutGroup& g = piece.cuts[key];
-            g.add(p[0], p[1], p[2], 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
-            g.normal = tri.origin < 0 ? planes[std::size_t(-1 - tri.origin)].normal
-                                      : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
-        }
-        piece.triangleKeys.push_back(key);
+        piece.planes.push_back(plane);
         for (std::size_t corner = 0; corner < 3; ++corner) {
             const Corner& c = corners[corner];
             const Key vk{tri.v[corner], {c.normal.x, c.normal.y, c.normal.z, c.uv.x, c.uv.y}, c.material};
@@ -723,7 +698,7 @@ RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<con
 // The pieces of one cell: its surface in canonical triangles with corners on the grid, welded
 // by grid point, mended (detail::cleanSurface) and split into closed parts: the volumes a
 // cell cuts out of a non-convex mesh, and the parts that rounding left touching.
-std::vector<RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
+std::vector<detail::RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
                                     std::int64_t ownCell, const FractureSettings& settings) {
     const auto o = origins(sm);
     std::vector<Triangle> tris;
@@ -750,21 +725,21 @@ std::vector<RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& g
         }
         welded.push_back(g);
     }
-    std::vector<RawPiece> pieces;
+    std::vector<detail::RawPiece> pieces;
     for (const auto& part : detail::cleanSurface(points, std::move(welded)).parts)
         pieces.push_back(buildPiece(part, points, grid, in, planes, ownCell, settings));
     return pieces;
 }
 
 struct Call {
-    std::vector<RawPiece> pieces;
+    std::vector<detail::RawPiece> pieces;
     std::vector<glm::dvec3> seeds;
 };
 
 // The pieces of the rough path (rough.cpp), as raw pieces with cut groups for bonds.
 // Rough pieces re-mesh the whole surface, so their faces name only the cuts made here: a
 // piece re-fractured by `levels` keeps bonds among its own sub-pieces, not outward.
-std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
+std::vector<detail::RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
                                     std::int64_t cellBase, double diagonal, const Grid& grid,
                                     const FractureSettings& settings) {
     std::vector<detail::RoughCell> rough(seeds.size());
@@ -790,32 +765,21 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
     rs.uvScale = settings.interiorUvScale;
     std::vector<std::vector<detail::RoughPiece>> perCell = detail::roughPieces(mesh, rough, rs);
 
-    std::vector<RawPiece> pieces;
+    std::vector<detail::RawPiece> pieces;
     for (std::size_t i = 0; i < perCell.size(); ++i)
         for (detail::RoughPiece& rp : perCell[i]) {
-            RawPiece p;
-            p.cells.insert(cellBase + std::int64_t(i));
+            detail::RawPiece p;
+            p.cell = cellBase + std::int64_t(i);
             p.mesh = std::move(rp.mesh);
             p.mesh.name = "piece";
-            p.triangleKeys = std::move(rp.triangleKeys);
+            for (std::int64_t neighbour : rp.triangleKeys)
+                p.planes.push_back(neighbour < 0 ? detail::kSurface : detail::planeKey(p.cell, neighbour));
             for (glm::vec3& q : p.mesh.positions) {
                 p.worldPositions.push_back(grid.snap(glm::dvec3(q)));
                 q = glm::vec3(p.worldPositions.back());
             }
             p.points = p.worldPositions;
             p.pointIndices = p.mesh.indices;
-            for (std::size_t t = 0; t < p.triangleKeys.size(); ++t) {
-                if (p.triangleKeys[t] < 0) continue;
-                const glm::dvec3 a = p.points[p.pointIndices[3 * t]], b = p.points[p.pointIndices[3 * t + 1]],
-                                 c = p.points[p.pointIndices[3 * t + 2]];
-                const glm::dvec3 cross = glm::cross(b - a, c - a);
-                const double area = 0.5 * glm::length(cross);
-                if (area <= 0.0) continue;
-                CutGroup& g = p.cuts[p.triangleKeys[t]];
-                g.add(a, b, c, area);
-                g.normal += cross;
-            }
-            for (auto& [key, g] : p.cuts) g.normal = glm::normalize(g.normal);
             p.mass = computeMassProperties(p.points, p.pointIndices, settings.density);
             pieces.push_back(std::move(p));
         }
@@ -824,9 +788,9 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
 
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 // Seeds are settings.points, or sampled from the surface this call builds anyway.
-Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::int64_t cellBase,
+Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::int64_t cellBase,
                   const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
-    Input in = makeInput(mesh, triangleKeys);
+    Input in = makeInput(mesh, planes);
     std::vector<glm::dvec3> seeds = !settings.points.empty()
                                         ? settings.points
                                         : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
@@ -850,7 +814,7 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     hierarchy.process(in.sm, std::move(all));
 
     // Pieces in cell order, the parts of a cell in the order of their smallest corner.
-    std::vector<std::vector<RawPiece>> perCell(seeds.size());
+    std::vector<std::vector<detail::RawPiece>> perCell(seeds.size());
     tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
         perCell[i] = extractPieces(results[i], in, grid, cells.planes[i], cellBase + std::int64_t(i), settings);
         results[i] = SM();
@@ -858,113 +822,8 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     Call call;
     call.seeds = std::move(seeds);
     for (auto& list : perCell)
-        for (RawPiece& p : list) call.pieces.push_back(std::move(p));
+        for (detail::RawPiece& p : list) call.pieces.push_back(std::move(p));
     return call;
-}
-
-bool boxesTouch(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b, double tolerance) {
-    return CGAL::do_overlap(expanded(a, tolerance), b);
-}
-
-// Bonds from cut faces: piece p occupies cell i and has cut faces towards cell j; q
-// occupies j and has cut faces towards one of p's cells, where the two sets of faces meet.
-std::vector<Bond> buildBonds(const std::vector<RawPiece>& pieces, double tolerance) {
-    std::multimap<std::int64_t, std::uint32_t> piecesInCell;
-    for (std::uint32_t i = 0; i < pieces.size(); ++i)
-        for (std::int64_t c : pieces[i].cells) piecesInCell.emplace(c, i);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, Bond> bonds;
-    for (std::uint32_t p = 0; p < pieces.size(); ++p) {
-        for (const auto& [neighbourCell, group] : pieces[p].cuts) {
-            const auto range = piecesInCell.equal_range(neighbourCell);
-            for (auto it = range.first; it != range.second; ++it) {
-                const std::uint32_t q = it->second;
-                if (q == p) continue;
-                bool facing = false;
-                for (std::int64_t c : pieces[p].cells) {
-                    const auto g = pieces[q].cuts.find(c);
-                    if (g != pieces[q].cuts.end() && boxesTouch(group.box, g->second.box, tolerance)) facing = true;
-                }
-                if (!facing) continue;
-                const auto key = std::minmax(p, q);
-                Bond& bond = bonds[{key.first, key.second}];
-                bond.a = key.first;
-                bond.b = key.second;
-                if (p == bond.a) {  // a's side of the shared faces defines the bond
-                    bond.area += group.area;
-                    bond.centroid = (bond.centroid * (bond.area - group.area) + group.weightedCentroid) / bond.area;
-                    bond.normal = group.normal;
-                }
-            }
-        }
-    }
-    std::vector<Bond> out;
-    for (auto& [key, bond] : bonds)
-        if (bond.area > 0.0) out.push_back(bond);
-    return out;
-}
-
-// Keeps only the triangles for which keep(t) holds, and the vertices they use.
-void filterTriangles(RawPiece& piece, const std::function<bool(std::size_t)>& keep) {
-    RawPiece out;
-    out.cells = std::move(piece.cells);
-    out.cuts = std::move(piece.cuts);
-    out.level = piece.level;
-    out.mass = piece.mass;
-    std::vector<std::uint32_t> vertexMap(piece.mesh.positions.size(), UINT32_MAX);
-    std::vector<std::uint32_t> pointMap(piece.points.size(), UINT32_MAX);
-    for (std::size_t t = 0; t < piece.triangleKeys.size(); ++t) {
-        if (!keep(t)) continue;
-        out.triangleKeys.push_back(piece.triangleKeys[t]);
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::uint32_t v = piece.mesh.indices[3 * t + k], q = piece.pointIndices[3 * t + k];
-            if (vertexMap[v] == UINT32_MAX) {
-                vertexMap[v] = std::uint32_t(out.mesh.positions.size());
-                out.mesh.positions.push_back(piece.mesh.positions[v]);
-                out.mesh.normals.push_back(piece.mesh.normals[v]);
-                out.mesh.uv0.push_back(piece.mesh.uv0[v]);
-                out.mesh.materialIds.push_back(piece.mesh.materialIds[v]);
-                out.worldPositions.push_back(piece.worldPositions[v]);
-            }
-            if (pointMap[q] == UINT32_MAX) {
-                pointMap[q] = std::uint32_t(out.points.size());
-                out.points.push_back(piece.points[q]);
-            }
-            out.mesh.indices.push_back(vertexMap[v]);
-            out.pointIndices.push_back(pointMap[q]);
-        }
-    }
-    out.mesh.name = piece.mesh.name;
-    piece = std::move(out);
-}
-
-// Merges `part` into `into`: the faces between them go (their boundary loops coincide
-// once rounded to float, so the welded result stays watertight), the rest is concatenated.
-void mergeInto(RawPiece& into, RawPiece&& part, double density) {
-    filterTriangles(into, [&](std::size_t t) { return !part.cells.count(into.triangleKeys[t]); });
-    filterTriangles(part, [&](std::size_t t) { return !into.cells.count(part.triangleKeys[t]); });
-    const auto base = std::uint32_t(into.mesh.positions.size());
-    const auto pointBase = std::uint32_t(into.points.size());
-    for (std::uint32_t i : part.mesh.indices) into.mesh.indices.push_back(base + i);
-    for (std::uint32_t i : part.pointIndices) into.pointIndices.push_back(pointBase + i);
-    auto concat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
-    concat(into.mesh.positions, part.mesh.positions);
-    concat(into.mesh.normals, part.mesh.normals);
-    concat(into.mesh.uv0, part.mesh.uv0);
-    concat(into.mesh.materialIds, part.mesh.materialIds);
-    concat(into.worldPositions, part.worldPositions);
-    concat(into.points, part.points);
-    concat(into.triangleKeys, part.triangleKeys);
-    into.cells.insert(part.cells.begin(), part.cells.end());
-    into.level = std::min(into.level, part.level);
-    for (auto& [cell, group] : part.cuts) {
-        CutGroup& g = into.cuts[cell];
-        g.area += group.area;
-        g.weightedCentroid += group.weightedCentroid;
-        g.normal = group.normal;
-        g.box += group.box;
-    }
-    for (std::int64_t cell : into.cells) into.cuts.erase(cell);  // no bond with itself
-    into.mass = computeMassProperties(into.points, into.pointIndices, density);
 }
 
 std::string pieceName(std::size_t i) {
@@ -1031,25 +890,15 @@ void checkSettings(const FractureSettings& s) {
         throw InputError("roughness, its scale and the voxel size must not be negative");
 }
 
-FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
-    checkSettings(settings);
-    checkInput(mesh);
-    FractureResult result;
-    result.inputTriangles = mesh.triangleCount();
-
-    // Re-fracture levels each take a share of the progress bar.
-    const double share = 1.0 / double(1 + settings.levels);
-    const Grid grid = gridFor(mesh);
-    Call top = fractureOnce(mesh, nullptr, 0, grid, settings,
-                            [&](double f) { return progress(f * share); });
-    result.seeds = top.seeds;
-    std::vector<RawPiece> pieces = std::move(top.pieces);
-
-    std::int64_t nextCell = std::int64_t(result.seeds.size());
+// Fractures again, `levels` times, the pieces whose centre lies within the impact radius.
+// A re-fractured piece's faces keep the cut plane they lay on, so its sub-pieces bond to
+// the neighbours it had.
+std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, std::int64_t nextCell, const Grid& grid,
+                                         const FractureSettings& settings, const ProgressFn& progress) {
     for (int level = 1; level <= settings.levels && settings.impact; ++level) {
-        std::vector<RawPiece> next;
+        std::vector<detail::RawPiece> next;
         for (std::size_t i = 0; i < pieces.size(); ++i) {
-            RawPiece& p = pieces[i];
+            detail::RawPiece& p = pieces[i];
             const bool near = glm::length(p.mass.centerOfMass - *settings.impact) <= settings.impactRadius;
             if (!near || p.level != std::uint32_t(level - 1)) {
                 next.push_back(std::move(p));
@@ -1060,50 +909,30 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
             sub.impact.reset();
             sub.points.clear();
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
-            Call call = fractureOnce(p.mesh, &p.triangleKeys, nextCell, grid, sub, noProgress);
+            Call call = fractureOnce(p.mesh, &p.planes, nextCell, grid, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
-            for (RawPiece& q : call.pieces) {
+            for (detail::RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
                 next.push_back(std::move(q));
             }
         }
         pieces = std::move(next);
-        if (!progress(share * (1 + level))) throw Cancelled();
+        if (!progress(double(level) / double(settings.levels))) throw Cancelled();
     }
+    return pieces;
+}
 
-    // Pieces below the minimum volume join the neighbour they share most area with.
-    if (settings.minVolume > 0.0) {
-        for (;;) {
-            std::size_t smallest = pieces.size();
-            for (std::size_t i = 0; i < pieces.size(); ++i)
-                if (pieces[i].mass.volume < settings.minVolume &&
-                    (smallest == pieces.size() || pieces[i].mass.volume < pieces[smallest].mass.volume))
-                    smallest = i;
-            if (smallest == pieces.size()) break;
-            const Bond* best = nullptr;
-            const std::vector<Bond> bonds = buildBonds(pieces, 1e-6);
-            for (const Bond& b : bonds)
-                if ((b.a == smallest || b.b == smallest) && (!best || b.area > best->area)) best = &b;
-            if (!best) break;  // an isolated sliver: nothing to merge with
-            const std::size_t into = best->a == smallest ? best->b : best->a;
-            mergeInto(pieces[into], std::move(pieces[smallest]), settings.density);
-            pieces.erase(pieces.begin() + std::ptrdiff_t(smallest));
-            ++result.merged;
-        }
-    }
-
-    const Bounds bounds = computeBounds(mesh.positions);
-    const double tolerance = 1e-6 * (1.0 + glm::length(bounds.max - bounds.min));
-    result.bonds = buildBonds(pieces, tolerance);
-    result.inputVolume = volumeOf(mesh);
-    result.pieces.resize(pieces.size());
+// The pieces as written: named in order, the pivot (the centre of mass, on the grid) their
+// origin, every vertex tagged with its piece.
+std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces, const Grid& grid) {
+    std::vector<FracturePiece> out(pieces.size());
     tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
-        RawPiece& raw = pieces[i];
-        FracturePiece& piece = result.pieces[i];
+        detail::RawPiece& raw = pieces[i];
+        FracturePiece& piece = out[i];
         piece.name = pieceName(i);
         piece.mass = raw.mass;
-        piece.mass.centerOfMass = grid.snap(raw.mass.centerOfMass);  // the pivot: on the grid, so the mesh is exact
-        piece.cell = std::uint32_t(*raw.cells.begin());
+        piece.mass.centerOfMass = grid.snap(raw.mass.centerOfMass);  // on the grid, so the mesh is exact
+        piece.cell = std::uint32_t(raw.cell);
         piece.level = raw.level;
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
@@ -1112,6 +941,31 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
         piece.closed = inspectMesh(piece.mesh).closed;
     });
+    return out;
+}
+
+FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+    checkSettings(settings);
+    checkInput(mesh);
+    FractureResult result;
+    result.inputTriangles = mesh.triangleCount();
+    result.inputVolume = volumeOf(mesh);
+    const Grid grid = gridFor(mesh);
+    const Bounds bounds = computeBounds(mesh.positions);
+    const double diagonal = glm::length(bounds.max - bounds.min);
+    const double minArea = 1e-12 * diagonal * diagonal;  // contacts smaller than this are rounding
+
+    // The first fracture and each re-fracture level take a share of the progress bar.
+    const double share = 1.0 / double(1 + settings.levels);
+    Call top = fractureOnce(mesh, nullptr, 0, grid, settings, [&](double f) { return progress(f * share); });
+    result.seeds = top.seeds;
+    std::vector<detail::RawPiece> pieces =
+        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings,
+                   [&](double f) { return progress(share + f * (1.0 - share)); });
+    if (settings.minVolume > 0.0)
+        result.merged = detail::mergeSmallPieces(pieces, settings.minVolume, settings.density, minArea);
+    result.bonds = detail::bondsBetween(pieces, minArea);
+    result.pieces = finalPieces(pieces, grid);
     progress(1.0);
     return result;
 }
