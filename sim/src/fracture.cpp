@@ -946,6 +946,10 @@ std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces, co
 
 FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
     checkSettings(settings);
+    if (mesh.triangleCount() > kMaxFractureTriangles)
+        throw InputError(format("the mesh has {} triangles; fracture takes at most {} (about 5 KB of memory each): "
+                                "simplify it first",
+                                mesh.triangleCount(), kMaxFractureTriangles));
     checkInput(mesh);
     FractureResult result;
     result.inputTriangles = mesh.triangleCount();
