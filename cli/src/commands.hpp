@@ -24,5 +24,6 @@ Command addCity(CLI::App& app, CommonOptions& common);
 Command addDemo(CLI::App& app, CommonOptions& common);
 Command addRender(CLI::App& app, CommonOptions& common);
 Command addView(CLI::App& app, CommonOptions& common);
+Command addBake(CLI::App& app, CommonOptions& common);
 
 }  // namespace dawnforge::cli

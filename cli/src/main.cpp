@@ -16,30 +16,12 @@ namespace {
 
 using namespace dawnforge;
 
-// Commands of ARCHITECTURE.md that later work builds; they are listed so --help shows
-// the whole tool, and they say plainly that they are not built yet.
-struct PlannedCommand {
-    const char* name;
-    const char* summary;
-};
-constexpr PlannedCommand kPlanned[] = {
-    {"bake", "Bake lightmaps and overlook depth next to a city (not built yet)"},
-};
-
 std::vector<cli::Command> addCommands(CLI::App& app, cli::CommonOptions& common) {
     std::vector<cli::Command> commands{cli::addInspect(app, common), cli::addFracture(app, common),
                                        cli::addSimulate(app, common), cli::addVat(app, common),
                                        cli::addCity(app, common),     cli::addDemo(app, common),
-                                       cli::addRender(app, common),   cli::addView(app, common)};
-    for (const PlannedCommand& p : kPlanned) {
-        CLI::App* cmd = app.add_subcommand(p.name, p.summary);
-        cmd->fallthrough(false);
-        cmd->allow_extras();
-        commands.push_back({cmd, [cmd]() -> int {
-                                std::fprintf(stderr, "dawnforge %s: not built yet\n", cmd->get_name().c_str());
-                                return static_cast<int>(ExitCode::BadInput);
-                            }});
-    }
+                                       cli::addRender(app, common),   cli::addView(app, common),
+                                       cli::addBake(app, common)};
     return commands;
 }
 

@@ -1,0 +1,69 @@
+// dawnforge bake CITY_DIR: lightmaps, overlook maps and proxies into CITY_DIR/bake/.
+#include "commands.hpp"
+
+#include <dawnforge/bake/bake.hpp>
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+
+#include <cstdio>
+#include <memory>
+
+namespace dawnforge::cli {
+
+namespace {
+
+struct BakeOptions {
+    std::filesystem::path cityDir;
+    bake::BakeSettings settings;
+};
+
+// Bakes `cityDir` with progress on stderr and a summary on stdout; a budget error names the
+// option that fixes it.
+void bakeWithSummary(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common) {
+    bake::BakeReport report;
+    try {
+        StderrProgress progress = progressFor("bake", common);
+        report = bake::bakeCity(cityDir, settings, progress.callback());
+    } catch (const bake::BakeBudgetError& e) {
+        throw InputError(format("{} (raise --texel{}, or --memory-budget)", e.what(),
+                                e.suggestedTexel() > 0.0 ? format(" to {}", e.suggestedTexel()) : std::string()));
+    }
+    const double mrays = double(report.lighting.rays) / std::max(report.lighting.raySeconds, 1e-9) / 1e6;
+    std::printf("baked %s: %zu buildings, %zu rooms, %zu lamps, %zu lightmaps with %zu texels, %zu proxies in %.1f s\n",
+                cityDir.string().c_str(), report.buildings, report.rooms, report.lamps, report.receivers, report.texels,
+                report.proxies, report.seconds);
+    std::printf("  %zu rays in %.1f s (%.2f Mrays/s) on %zu triangles; load %.1f s, charts %.1f s, lighting %.1f s, files %.1f s\n",
+                report.lighting.rays, report.lighting.raySeconds, mrays, report.triangles, report.loadSeconds, report.layoutSeconds,
+                report.lightingSeconds, report.writeSeconds);
+    std::printf("  wrote %s\n", (cityDir / "bake").string().c_str());
+}
+
+}  // namespace
+
+void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common) {
+    bakeWithSummary(cityDir, settings, common);
+}
+
+Command addBake(CLI::App& app, CommonOptions& common) {
+    auto o = std::make_shared<BakeOptions>();
+    bake::BakeSettings& s = o->settings;
+    CLI::App* cmd = app.add_subcommand(
+        "bake", "Bake lightmaps (sky, sun bounce, AO, lamps), overlook maps and proxies next to a city: CITY_DIR/bake/");
+    cmd->add_option("CITY_DIR", o->cityDir, "A folder written by dawnforge city (city.glb, city.json)")->required();
+    cmd->add_option("--texel", s.texel, "Metres per lightmap texel on buildings (LOD1 shells: twice that)")->capture_default_str();
+    cmd->add_option("--interior-texel", s.interiorTexel, "Metres per lightmap texel in rooms")->capture_default_str();
+    cmd->add_option("--ground-texel", s.groundTexel, "Metres per lightmap texel on the ground")->capture_default_str();
+    cmd->add_option("--samples", s.samples, "Hemisphere rays per texel per pass")->capture_default_str();
+    cmd->add_option("--sun-samples", s.sunSamples, "Sun positions per texel along the day's path")->capture_default_str();
+    cmd->add_option("--bounces", s.bounces, "Bounces of sky, sun and lamp light")->capture_default_str();
+    cmd->add_option("--ao-radius", s.aoRadius, "Ambient-occlusion radius in metres")->capture_default_str();
+    cmd->add_option("--memory-budget", s.memoryBudgetMb, "Refuse settings that need more memory than this (MB)")->capture_default_str();
+    cmd->add_option("--seed", s.seed, "Random seed of the ray directions")->capture_default_str();
+    addThreadsOption(*cmd, common);
+    return {cmd, [o, &common] {
+                bakeWithSummary(o->cityDir, o->settings, common);
+                return 0;
+            }};
+}
+
+}  // namespace dawnforge::cli
