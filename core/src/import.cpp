@@ -1,5 +1,10 @@
-// Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf.
+// Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf (they keep what
+// dawnforge writes: material IDs in COLOR_0, piece IDs, node names), every other format
+// through Assimp (import_assimp.cpp).
+#include "import_assimp.hpp"
+
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -11,11 +16,10 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cstring>
-#include <dawnforge/core/format.hpp>
-#include <fstream>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -385,6 +389,15 @@ void checkReadable(const fs::path& file, const std::string& name) {
     if (!std::ifstream(file)) throw InputError(format("{}: cannot be read", name));
 }
 
+// The nodes of any format but OBJ: glTF through tinygltf, the rest through Assimp.
+std::vector<MeshNode> loadNodes(const fs::path& file, const std::string& name, const std::string& ext) {
+    if (ext == ".gltf" || ext == ".glb") return loadGltfNodes(file, name);
+    if (detail::assimpReadsExtension(ext)) return detail::loadAssimpNodes(file, name);
+    throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf, .glb, .fbx, .dae, .stl, .ply, .off, "
+                            ".3ds or another format Assimp reads)",
+                            name, ext));
+}
+
 }  // namespace
 
 Mesh loadMesh(const fs::path& file) {
@@ -394,11 +407,9 @@ Mesh loadMesh(const fs::path& file) {
     Mesh mesh;
     if (ext == ".obj") {
         mesh = loadObj(file, name);
-    } else if (ext == ".gltf" || ext == ".glb") {
-        mesh.name = file.stem().string();
-        for (const MeshNode& node : loadGltfNodes(file, name)) appendMesh(mesh, node.mesh, node.world);
     } else {
-        throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf or .glb)", name, ext));
+        mesh.name = file.stem().string();
+        for (const MeshNode& node : loadNodes(file, name, ext)) appendMesh(mesh, node.mesh, node.world);
     }
     validateMeshData(mesh, name);
     return mesh;
@@ -408,9 +419,15 @@ std::vector<MeshNode> loadMeshNodes(const fs::path& file) {
     const std::string name = file.string();
     checkReadable(file, name);
     const std::string ext = lowerExtension(file);
-    if (ext != ".gltf" && ext != ".glb")
-        throw InputError(format("{}: expected a glTF file (.gltf or .glb), not '{}'", name, ext));
-    std::vector<MeshNode> nodes = loadGltfNodes(file, name);
+    std::vector<MeshNode> nodes;
+    if (ext == ".obj") {
+        MeshNode whole;
+        whole.name = file.stem().string();
+        whole.mesh = loadObj(file, name);
+        nodes.push_back(std::move(whole));
+    } else {
+        nodes = loadNodes(file, name, ext);
+    }
     for (const MeshNode& node : nodes) validateMeshData(node.mesh, format("{} (node '{}')", name, node.name));
     return nodes;
 }

@@ -1,16 +1,22 @@
 #include "test_support.hpp"
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/scene.hpp>
 #include <dawnforge/core/seed.hpp>
+#include <dawnforge/core/validate.hpp>
 #include <dawnforge/exporters/gltf.hpp>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 using namespace dawnforge;
@@ -30,6 +36,32 @@ void expectInputError(const std::filesystem::path& file, const std::string& prob
         EXPECT_NE(what.find(problem), std::string::npos) << what;
         EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
     }
+}
+
+// Debian's assimp-testmodels: real files from other tools, and deliberately broken ones.
+const std::filesystem::path kModels = "/usr/share/assimp/models";
+
+#define SKIP_WITHOUT_TEST_MODELS()                                                                \
+    if (!std::filesystem::exists(kModels))                                                        \
+    GTEST_SKIP() << kModels.string() << " is missing (Debian package assimp-testmodels; ./run installs it)"
+
+void expectBounds(const Mesh& m, glm::dvec3 min, glm::dvec3 max, double tolerance) {
+    const Bounds b = computeBounds(m.positions);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(b.min[k], min[k], tolerance) << "min, axis " << k;
+        EXPECT_NEAR(b.max[k], max[k], tolerance) << "max, axis " << k;
+    }
+}
+
+// A closed, outward, self-intersection-free solid of the given volume.
+void expectSolid(const Mesh& m, double volume, double tolerance) {
+    const MeshReport r = inspectMesh(m);
+    EXPECT_TRUE(r.closed);
+    EXPECT_TRUE(r.manifold);
+    EXPECT_FALSE(r.selfIntersecting);
+    EXPECT_TRUE(r.outwardOriented);
+    ASSERT_TRUE(r.volume.has_value());
+    EXPECT_NEAR(*r.volume, volume, tolerance);
 }
 
 }  // namespace
@@ -57,8 +89,8 @@ TEST(ImportObj, BadFilesAreInputErrors) {
     expectInputError(test::dataFile("bad_index_quad.obj"), "vertex 40");
     std::filesystem::create_directory(dir / "folder.obj");
     expectInputError(dir / "folder.obj", "folder");
-    test::writeText(dir / "mesh.stl", "solid x\n");
-    expectInputError(dir / "mesh.stl", "unknown mesh format");
+    test::writeText(dir / "mesh.xyz", "solid x\n");
+    expectInputError(dir / "mesh.xyz", "unknown mesh format");
 }
 
 TEST(ImportObj, RandomBytesNeverCrash) {
@@ -67,10 +99,10 @@ TEST(ImportObj, RandomBytesNeverCrash) {
     for (int round = 0; round < 20; ++round) {
         std::string bytes(1 + rng.below(4096), '\0');
         for (char& c : bytes) c = static_cast<char>(rng.below(256));
-        test::writeText(dir / "random.obj", bytes);
-        test::writeText(dir / "random.glb", bytes);
-        test::writeText(dir / "random.gltf", bytes);
-        for (const char* name : {"random.obj", "random.glb", "random.gltf"}) {
+        const char* names[] = {"random.obj", "random.glb", "random.gltf", "random.fbx", "random.stl",
+                               "random.ply", "random.off", "random.dae", "random.3ds"};
+        for (const char* name : names) test::writeText(dir / name, bytes);
+        for (const char* name : names) {
             try {
                 const Mesh m = loadMesh(dir / name);  // the odd random file may parse: then it is valid
                 EXPECT_NO_THROW(validateMeshData(m, name));
@@ -145,4 +177,182 @@ TEST(ImportGltf, BadFilesAreInputErrors) {
                         "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
                         "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]})");
     expectInputError(dir / "huge.gltf", "");
+}
+
+TEST(ImportObj, LoadMeshNodesGivesTheFileAsOneNode) {
+    const std::vector<MeshNode> nodes = loadMeshNodes(test::dataFile("cube_quads.obj"));
+    ASSERT_EQ(nodes.size(), 1u);
+    EXPECT_EQ(nodes[0].name, "cube_quads");
+    EXPECT_EQ(nodes[0].mesh.triangleCount(), 12u);
+}
+
+// ---------------------------------------------------------------- Assimp formats
+
+TEST(ImportFbx, ZUpCentimetresArriveInMetresYUp) {
+    // tests/data/box_zup_cm.fbx: 3ds Max's axes (up +Z, front -Y), UnitScaleFactor 1 (cm),
+    // a box x 0..200, y 0..100, z 0..50. In metres, +Y up: (x, y, z) -> (x, z, -y) / 100.
+    const Mesh m = loadMesh(test::dataFile("box_zup_cm.fbx"));
+    expectBounds(m, {0, 0, -1}, {2, 0.5, 0}, 1e-6);
+    expectSolid(m, 1.0, 1e-6);  // a rotation: still outward
+    EXPECT_TRUE(m.materialIds.empty()) << "other tools' files carry no dawnforge material IDs";
+
+    // The same box in a left-handed file (right is -X): mirrored, and still outward.
+    TempDir dir;
+    std::string text = test::readText(test::dataFile("box_zup_cm.fbx"));
+    const std::string sign = R"("CoordAxisSign", "int", "Integer", "",1)";
+    ASSERT_NE(text.find(sign), std::string::npos);
+    text.replace(text.find(sign), sign.size(), R"("CoordAxisSign", "int", "Integer", "",-1)");
+    test::writeText(dir / "left_handed.fbx", text);
+    const Mesh mirrored = loadMesh(dir / "left_handed.fbx");
+    expectBounds(mirrored, {-2, 0, -1}, {0, 0.5, 0}, 1e-6);
+    expectSolid(mirrored, 1.0, 1e-6);
+
+    std::string metres = test::readText(test::dataFile("box_zup_cm.fbx"));
+    const std::string unit = R"("UnitScaleFactor", "double", "Number", "",1)";
+    metres.replace(metres.find(unit), unit.size(), R"("UnitScaleFactor", "double", "Number", "",100)");
+    test::writeText(dir / "metres.fbx", metres);
+    expectBounds(loadMesh(dir / "metres.fbx"), {0, 0, -100}, {200, 50, 0}, 1e-4);
+}
+
+TEST(ImportFbx, TestModelsInMetresYUp) {
+    SKIP_WITHOUT_TEST_MODELS();
+    // 3ds Max export, Z up, UnitScaleFactor 100 (metres): a 1.2 m cube standing on z = 0.
+    const Mesh maxBox = loadMesh(kModels / "FBX/embedded_ascii/box.FBX");
+    expectBounds(maxBox, {-0.6, 0, -0.6}, {0.6, 1.2, 0.6}, 1e-6);
+    expectSolid(maxBox, 1.2 * 1.2 * 1.2, 1e-5);
+    ASSERT_EQ(maxBox.normals.size(), maxBox.vertexCount());
+    ASSERT_EQ(maxBox.uv0.size(), maxBox.vertexCount());
+
+    // FBX SDK 2017 export, Y up, UnitScaleFactor 100: a rotated box about half a metre across.
+    const Mesh box = loadMesh(kModels / "FBX/box.fbx");
+    EXPECT_EQ(box.triangleCount(), 12u);
+    expectBounds(box, {-0.2261, -0.1619, -0.0646}, {0.2845, 0.2443, 0.4647}, 1e-3);
+    expectSolid(box, 0.0358, 1e-3);
+
+    // spider.fbx is spider.obj written in centimetres (UnitScaleFactor 1, coordinates x100):
+    // in metres the two agree, though different readers read them.
+    const Mesh fbx = loadMesh(kModels / "FBX/spider.fbx");
+    const Mesh obj = loadMesh(kModels / "OBJ/spider.obj");
+    EXPECT_EQ(fbx.triangleCount(), obj.triangleCount());
+    const Bounds b = computeBounds(obj.positions);
+    expectBounds(fbx, b.min, b.max, 1e-3);
+    EXPECT_NEAR(b.max.x - b.min.x, 150.6, 0.1);  // a 150 m spider, as spider.obj's numbers say
+
+    const std::vector<MeshNode> nodes = loadMeshNodes(kModels / "FBX/cubes_with_names.fbx");
+    ASSERT_FALSE(nodes.empty());
+    for (const MeshNode& node : nodes) EXPECT_FALSE(node.name.empty());
+}
+
+TEST(ImportCollada, UnitAndUpAxisAreApplied) {
+    SKIP_WITHOUT_TEST_MODELS();
+    // <unit meter="0.0254"/> and Z_UP: a 2-inch cube standing on the ground.
+    const Mesh m = loadMesh(kModels / "Collada/cube_with_2UVs.DAE");
+    expectBounds(m, {-0.0254, 0, -0.0254}, {0.0254, 0.0508, 0.0254}, 1e-6);
+    expectSolid(m, std::pow(0.0508, 3), 1e-8);
+}
+
+TEST(ImportStl, AsciiAndBinary) {
+    TempDir dir;
+    // A unit right tetrahedron, outward, in ASCII and in binary STL.
+    const std::array<std::array<glm::vec3, 3>, 4> faces{{{{{0, 0, 0}, {0, 1, 0}, {1, 0, 0}}},
+                                                         {{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}}},
+                                                         {{{0, 0, 0}, {0, 0, 1}, {0, 1, 0}}},
+                                                         {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}}};
+    std::string ascii = "solid tetra\n";
+    std::string binary(80, ' ');
+    auto put = [&](const void* p, std::size_t n) { binary.append(static_cast<const char*>(p), n); };
+    const std::uint32_t count = faces.size();
+    put(&count, 4);
+    for (const auto& f : faces) {
+        const glm::vec3 n = glm::normalize(glm::cross(f[1] - f[0], f[2] - f[0]));
+        ascii += format("facet normal {} {} {}\nouter loop\n", n.x, n.y, n.z);
+        put(&n, 12);
+        for (const glm::vec3& v : f) {
+            ascii += format("vertex {} {} {}\n", v.x, v.y, v.z);
+            put(&v, 12);
+        }
+        ascii += "endloop\nendfacet\n";
+        const std::uint16_t attributes = 0;
+        put(&attributes, 2);
+    }
+    ascii += "endsolid tetra\n";
+    test::writeText(dir / "ascii.stl", ascii);
+    test::writeText(dir / "binary.stl", binary);
+    for (const char* name : {"ascii.stl", "binary.stl"}) {
+        SCOPED_TRACE(name);
+        const Mesh m = loadMesh(dir / name);
+        EXPECT_EQ(m.triangleCount(), 4u);
+        expectBounds(m, {0, 0, 0}, {1, 1, 1}, 0.0);  // no unit in STL: metres as written
+        expectSolid(m, 1.0 / 6.0, 1e-9);
+        EXPECT_EQ(m.normals.size(), m.vertexCount());  // the facet normals
+        EXPECT_TRUE(m.materialIds.empty());
+    }
+}
+
+TEST(ImportStl, TestModelsAsciiAndBinaryAgree) {
+    SKIP_WITHOUT_TEST_MODELS();
+    const Mesh ascii = loadMesh(kModels / "STL/Spider_ascii.stl");
+    const Mesh binary = loadMesh(kModels / "STL/Spider_binary.stl");
+    EXPECT_EQ(ascii.triangleCount(), 1368u);
+    EXPECT_EQ(binary.triangleCount(), 1368u);
+    const Bounds b = computeBounds(ascii.positions);
+    expectBounds(binary, b.min, b.max, 1e-5);
+}
+
+TEST(ImportPly, PolygonsAreTriangulated) {
+    TempDir dir;
+    // A unit cube of six quads (outward), with per-vertex normals and UVs.
+    std::string ply = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+                      "property float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\n"
+                      "element face 6\nproperty list uchar int vertex_indices\nend_header\n";
+    for (int i = 0; i < 8; ++i) {
+        const glm::vec3 p(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+        const glm::vec3 n = glm::normalize(p - 0.5f);
+        ply += format("{} {} {} {} {} {} {} {}\n", p.x, p.y, p.z, n.x, n.y, n.z, p.x, p.y);
+    }
+    ply += "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+    test::writeText(dir / "cube.ply", ply);
+    const Mesh m = loadMesh(dir / "cube.ply");
+    EXPECT_EQ(m.triangleCount(), 12u);
+    expectSolid(m, 1.0, 1e-9);
+    EXPECT_EQ(m.normals.size(), m.vertexCount());
+    EXPECT_EQ(m.uv0.size(), m.vertexCount());
+    EXPECT_EQ(m.vertexCount(), 8u);  // identical vertices joined
+}
+
+TEST(ImportOff, QuadCubeAndBadHeaders) {
+    TempDir dir;
+    test::writeText(dir / "cube.off",
+                    "OFF\n# a unit cube of quads\n8 6 12\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+                    "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n");
+    const Mesh m = loadMesh(dir / "cube.off");
+    EXPECT_EQ(m.triangleCount(), 12u);
+    expectSolid(m, 1.0, 1e-9);
+    EXPECT_TRUE(m.normals.empty());
+
+    // Assimp would allocate (and zero) 2^32 - 1 vertices before reading a line.
+    test::writeText(dir / "huge.off", "OFF\n4294967295 1 0\n0 0 0\n3 0 0 0\n");
+    expectInputError(dir / "huge.off", "the OFF header claims 4294967295 vertices");
+    test::writeText(dir / "wraps.off", "OFF\n353535235358 6 0\n0 0 0\n");
+    expectInputError(dir / "wraps.off", "more than the file's");
+    test::writeText(dir / "text.off", "OFF\nthree vertices\n");
+    expectInputError(dir / "text.off", "not a readable mesh file");
+}
+
+TEST(ImportAssimp, BadFilesAreOneLineInputErrors) {
+    TempDir dir;
+    test::writeText(dir / "garbage.fbx", "Kaydara FBX Binary  and then nothing useful");
+    expectInputError(dir / "garbage.fbx", "not a readable mesh file");
+    test::writeText(dir / "no_faces.stl", "solid empty\nendsolid empty\n");
+    expectInputError(dir / "no_faces.stl", "not a readable mesh file");
+    test::writeText(dir / "points.ply",
+                    "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+                    "end_header\n0 0 0\n1 1 1\n");
+    expectInputError(dir / "points.ply", "");
+    // An FBX whose axis system is not a rotation or a mirror.
+    std::string text = test::readText(test::dataFile("box_zup_cm.fbx"));
+    const std::string front = R"("FrontAxis", "int", "Integer", "",1)";
+    text.replace(text.find(front), front.size(), R"("FrontAxis", "int", "Integer", "",2)");
+    test::writeText(dir / "axes.fbx", text);
+    expectInputError(dir / "axes.fbx", "the FBX axis system is invalid");
 }
