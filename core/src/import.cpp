@@ -7,6 +7,7 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -22,6 +23,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <span>
 #include <sstream>
 
 namespace dawnforge {
@@ -74,10 +76,92 @@ void checkObjLines(const fs::path& file, const std::string& name) {
     }
 }
 
+// Splits a simple polygon (corners in order, planar or nearly so) into corners.size() - 2
+// triangles of local corner indices, wound as the polygon is, by ear clipping in the
+// plane of its Newell normal: right for non-convex faces, where a fan overlaps itself.
+// Only reflex corners can lie inside an ear, so a convex face costs O(n). A degenerate or
+// self-intersecting polygon still gets n - 2 triangles (what is left, as a fan).
+std::vector<std::array<std::uint32_t, 3>> triangulatePolygon(std::span<const glm::dvec3> corners) {
+    const auto n = static_cast<std::uint32_t>(corners.size());
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    if (n < 3) return triangles;
+    triangles.reserve(n - 2);
+    std::vector<std::uint32_t> next(n), prev(n);  // the corners not yet clipped, as a ring
+    for (std::uint32_t i = 0; i < n; ++i) {
+        next[i] = (i + 1) % n;
+        prev[i] = (i + n - 1) % n;
+    }
+    std::uint32_t remaining = n, cur = 0;
+    glm::dvec3 normal(0.0);  // Newell's method: right for non-convex and slightly warped polygons
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const glm::dvec3& a = corners[i];
+        const glm::dvec3& b = corners[next[i]];
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    const double length = glm::length(normal);
+    if (n > 3 && length > 0.0 && std::isfinite(length)) {
+        // A basis (u, v) of the plane with u x v = normal: the polygon runs counter-clockwise in it.
+        const glm::dvec3 w = normal / length;
+        const glm::dvec3 helper = std::fabs(w.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 u = glm::normalize(glm::cross(helper, w));
+        const glm::dvec3 v = glm::cross(w, u);
+        std::vector<glm::dvec2> p(n);
+        for (std::uint32_t i = 0; i < n; ++i)
+            p[i] = {glm::dot(corners[i] - corners[0], u), glm::dot(corners[i] - corners[0], v)};
+        auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+            return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        };
+        auto convex = [&](std::uint32_t i) { return cross(p[prev[i]], p[i], p[next[i]]) > 0.0; };
+        std::vector<char> reflex(n, 0), clipped(n, 0);  // reflex: turns right or goes straight
+        std::vector<std::uint32_t> reflexCorners;
+        for (std::uint32_t i = 0; i < n; ++i)
+            if (!convex(i)) {
+                reflex[i] = 1;
+                reflexCorners.push_back(i);
+            }
+        auto isEar = [&](std::uint32_t i) {
+            if (reflex[i]) return false;
+            const glm::dvec2 a = p[prev[i]], b = p[i], c = p[next[i]];
+            for (std::uint32_t j : reflexCorners) {  // no reflex corner inside the ear or on its border
+                if (!reflex[j] || clipped[j] || j == prev[i] || j == next[i]) continue;
+                const glm::dvec2 q = p[j];
+                if (q == a || q == b || q == c) continue;  // a repeated point (a bridged hole) touches, not blocks
+                if (cross(a, b, q) >= 0.0 && cross(b, c, q) >= 0.0 && cross(c, a, q) >= 0.0) return false;
+            }
+            return true;
+        };
+        std::uint32_t sinceClip = 0;
+        while (remaining > 3 && sinceClip < remaining) {
+            if (!isEar(cur)) {
+                cur = next[cur];
+                ++sinceClip;
+                continue;
+            }
+            const std::uint32_t a = prev[cur], c = next[cur];
+            triangles.push_back({a, cur, c});
+            next[a] = c;
+            prev[c] = a;
+            clipped[cur] = 1;
+            --remaining;
+            for (std::uint32_t x : {a, c})
+                if (reflex[x] && convex(x)) reflex[x] = 0;
+            cur = a;  // the corner before may have become an ear
+            sinceClip = 0;
+        }
+    }
+    for (std::uint32_t k = 0, x = next[cur]; k + 2 < remaining; ++k, x = next[x])
+        triangles.push_back({cur, x, next[x]});
+    return triangles;
+}
+
 Mesh loadObj(const fs::path& file, const std::string& name) {
     checkObjLines(file, name);
     tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
+    // Debian's tinyobjloader (2.0.0rc10, built without mapbox earcut) splits a quad along
+    // its shorter diagonal, which lies outside a concave quad, and its own ear clipping
+    // decides convexity from the first edge alone: faces are read whole and triangulated
+    // by triangulatePolygon instead.
+    config.triangulate = false;
     config.vertex_color = false;
     config.mtl_search_path = file.parent_path().string();
     tinyobj::ObjReader reader;
@@ -95,16 +179,17 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
     // OBJ indexes positions, normals and UVs separately: each distinct triple becomes one
     // vertex, numbered in order of first use (deterministic).
     std::map<std::array<int, 3>, std::uint32_t> vertexOf;
+    std::vector<std::uint32_t> polygon;
+    std::vector<glm::dvec3> corners;
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            const std::size_t corners = shape.mesh.num_face_vertices[f];
-            if (corners != 3)  // points or lines after triangulation; not part of a surface
-            {
-                offset += corners;
-                continue;
-            }
-            for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t count = shape.mesh.num_face_vertices[f];
+            if (offset + count > shape.mesh.indices.size())
+                throw InputError(format("{}: face {} of '{}' runs past the file's indices", name, f + 1, shape.name));
+            polygon.clear();
+            corners.clear();
+            for (std::size_t c = 0; c < count; ++c) {
                 const tinyobj::index_t& idx = shape.mesh.indices[offset + c];
                 if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= positionCount)
                     throw InputError(format("{}: face {} of '{}' uses vertex {} but the file has {} vertices",
@@ -135,9 +220,12 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
                     }
                     mesh.uv0.push_back(uv);
                 }
-                mesh.indices.push_back(it->second);
+                polygon.push_back(it->second);
+                corners.emplace_back(mesh.positions[it->second]);
             }
-            offset += corners;
+            for (const auto& t : triangulatePolygon(corners))
+                mesh.indices.insert(mesh.indices.end(), {polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+            offset += count;
         }
     }
     if (!anyNormal) mesh.normals.clear();

@@ -53,6 +53,16 @@ void expectBounds(const Mesh& m, glm::dvec3 min, glm::dvec3 max, double toleranc
     }
 }
 
+double surfaceArea(const Mesh& m) {
+    double area = 0.0;
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        const glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                         c = m.positions[m.indices[3 * t + 2]];
+        area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    return area;
+}
+
 // A closed, outward, self-intersection-free solid of the given volume.
 void expectSolid(const Mesh& m, double volume, double tolerance) {
     const MeshReport r = inspectMesh(m);
@@ -177,6 +187,34 @@ TEST(ImportGltf, BadFilesAreInputErrors) {
                         "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
                         "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]})");
     expectInputError(dir / "huge.gltf", "");
+}
+
+TEST(ImportObj, ConcaveFacesAreEarClipped) {
+    // A fan from the first corner of the U-shaped caps overlaps itself across the notch;
+    // Debian's tinyobjloader (2.0.0rc10) leaves holes in them (area 28.5, not closed).
+    const Mesh m = loadMesh(test::dataFile("u_prism.obj"));
+    EXPECT_EQ(m.triangleCount(), 2u * 6u + 8u * 2u);  // two 8-gons, eight quads
+    expectSolid(m, 7.0, 1e-9);
+    EXPECT_NEAR(surfaceArea(m), 30.0, 1e-9);  // overlapping cap triangles would add area
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        const glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                         c = m.positions[m.indices[3 * t + 2]];
+        if (a.z != b.z || b.z != c.z) continue;
+        const double nz = glm::cross(b - a, c - a).z;  // every cap triangle faces out of its cap
+        EXPECT_GT(a.z == 0.0 ? -nz : nz, 0.0) << "triangle " << t;
+    }
+}
+
+TEST(ImportObj, DegeneratePolygonsStillGiveTheirTriangles) {
+    TempDir dir;
+    // Collinear corners, a bow tie, a repeated corner: n - 2 triangles each, no hang.
+    test::writeText(dir / "odd.obj",
+                    "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nv 3 1 0\nv 0 1 0\nv 3 0 1\n"
+                    "f 1 2 3 4\n"
+                    "f 1 4 6 5\n"
+                    "f 1 2 2 4 5 6\n"
+                    "f 1 2 3 4 5 6 7\n");
+    EXPECT_EQ(loadMesh(dir / "odd.obj").triangleCount(), 2u + 2u + 4u + 5u);
 }
 
 TEST(ImportObj, LoadMeshNodesGivesTheFileAsOneNode) {
