@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
 
@@ -21,6 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <span>
@@ -432,7 +434,79 @@ void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, s
     for (int child : node.children) addNode(model, child, world, out, visited, source);
 }
 
+// The JSON of a .gltf file, or of a GLB's first chunk (read alone: a GLB may be a
+// gigabyte); empty if there is none to read (tinygltf then says what is wrong). A GLB of
+// version 1 is KHR_binary_glTF, glTF 1.0.
+std::string gltfJson(const fs::path& file, const std::string& name) {
+    std::ifstream in(file, std::ios::binary);
+    std::array<std::uint32_t, 5> header{};  // magic, version, length, chunk length, chunk type
+    in.read(reinterpret_cast<char*>(header.data()), sizeof header);
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got < 4 || std::memcmp(header.data(), "glTF", 4) != 0) {
+        in.clear();
+        in.seekg(0);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
+    if (got >= 8 && header[1] == 1)
+        throw InputError(format("{}: glTF 1.0 is not supported (re-export as glTF 2.0)", name));
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (got < sizeof header || header[4] != 0x4E4F534Au || ec || header[3] > size - sizeof header) return {};
+    std::string json(header[3], '\0');
+    in.read(json.data(), std::streamsize(json.size()));
+    return in ? json : std::string();
+}
+
+// Refuses by name what tinygltf would misread: glTF 1.0 (objects keyed by ID where 2.0
+// has arrays) and Draco-compressed primitives, whose accessors have no data of their own.
+// A file that only uses Draco, with an uncompressed fallback in every accessor, is read.
+void checkGltfFlavour(const fs::path& file, const std::string& name) {
+    const nlohmann::json doc = nlohmann::json::parse(gltfJson(file, name), nullptr, false);
+    if (!doc.is_object()) return;
+    bool version1 = false;
+    if (const auto asset = doc.find("asset"); asset != doc.end() && asset->is_object()) {
+        if (const auto v = asset->find("version"); v != asset->end()) {
+            if (v->is_string()) version1 = v->get<std::string>().starts_with("1");
+            else if (v->is_number()) version1 = v->get<double>() >= 1.0 && v->get<double>() < 2.0;
+        }
+    }
+    for (const char* key : {"meshes", "accessors", "nodes"})
+        if (const auto it = doc.find(key); it != doc.end() && it->is_object()) version1 = true;
+    if (version1) throw InputError(format("{}: glTF 1.0 is not supported (re-export as glTF 2.0)", name));
+
+    constexpr const char* kDraco = "KHR_draco_mesh_compression";
+    auto lists = [&](const char* key) {
+        const auto it = doc.find(key);
+        return it != doc.end() && it->is_array() && std::find(it->begin(), it->end(), kDraco) != it->end();
+    };
+    const std::string refusal =
+        format("{}: Draco-compressed meshes are not supported (export without Draco compression)", name);
+    if (lists("extensionsRequired")) throw InputError(refusal);
+    if (!lists("extensionsUsed")) return;
+    const auto accessors = doc.find("accessors");
+    auto hasData = [&](const nlohmann::json& index) {
+        if (!index.is_number_unsigned() || accessors == doc.end() || !accessors->is_array()) return false;
+        const std::size_t i = index.get<std::size_t>();
+        return i < accessors->size() && (*accessors)[i].is_object() && (*accessors)[i].contains("bufferView");
+    };
+    const auto meshes = doc.find("meshes");
+    if (meshes == doc.end() || !meshes->is_array()) return;
+    for (const nlohmann::json& mesh : *meshes) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (const nlohmann::json& prim : mesh["primitives"]) {
+            if (!prim.is_object() || !prim.contains("extensions") || !prim["extensions"].is_object() ||
+                !prim["extensions"].contains(kDraco))
+                continue;
+            if (prim.contains("indices") && !hasData(prim["indices"])) throw InputError(refusal);
+            if (prim.contains("attributes") && prim["attributes"].is_object())
+                for (const nlohmann::json& attribute : prim["attributes"])
+                    if (!hasData(attribute)) throw InputError(refusal);
+        }
+    }
+}
+
 std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& name) {
+    checkGltfFlavour(file, name);
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
     tinygltf::Model model;

@@ -63,6 +63,18 @@ double surfaceArea(const Mesh& m) {
     return area;
 }
 
+// Σ (b - a) × (c - a) / 2: the area-weighted normal, which the winding of every triangle
+// decides (a flat mesh's area times its front normal).
+glm::dvec3 vectorArea(const Mesh& m) {
+    glm::dvec3 sum(0.0);
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        const glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                         c = m.positions[m.indices[3 * t + 2]];
+        sum += 0.5 * glm::cross(b - a, c - a);
+    }
+    return sum;
+}
+
 // A closed, outward, self-intersection-free solid of the given volume.
 void expectSolid(const Mesh& m, double volume, double tolerance) {
     const MeshReport r = inspectMesh(m);
@@ -393,4 +405,111 @@ TEST(ImportAssimp, BadFilesAreOneLineInputErrors) {
     text.replace(text.find(front), front.size(), R"("FrontAxis", "int", "Integer", "",2)");
     test::writeText(dir / "axes.fbx", text);
     expectInputError(dir / "axes.fbx", "the FBX axis system is invalid");
+}
+
+// ---------------------------------------------------------------- glTF primitive modes
+
+TEST(ImportGltf, StripsAndFansMatchTheirTriangles) {
+    SKIP_WITHOUT_TEST_MODELS();
+    // The glTF Asset Generator's square in every mode: 06 and 13 are TRIANGLES (without and
+    // with indices), 04 and 11 TRIANGLE_STRIP, 05 and 12 TRIANGLE_FAN.
+    const std::filesystem::path folder = kModels / "glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode";
+    auto file = [&](int n) { return folder / format("Mesh_PrimitiveMode_{}{}.gltf", n < 10 ? "0" : "", n); };
+    const Mesh triangles = loadMesh(file(6));
+    const glm::dvec3 front = vectorArea(triangles);
+    ASSERT_GT(glm::length(front), 0.0);
+    for (int n : {4, 5, 11, 12, 13}) {
+        SCOPED_TRACE(file(n).filename().string());
+        const Mesh m = loadMesh(file(n));
+        EXPECT_EQ(m.triangleCount(), 2u);
+        const Bounds b = computeBounds(triangles.positions);
+        expectBounds(m, b.min, b.max, 0.0);
+        EXPECT_NEAR(surfaceArea(m), surfaceArea(triangles), 1e-9);  // no overlap, no gap
+        EXPECT_NEAR(glm::distance(vectorArea(m), front), 0.0, 1e-9);  // the same side in front
+    }
+    for (int n : {0, 1, 2, 3, 7, 8, 9, 10}) expectInputError(file(n), "contains no triangles");  // points, lines
+}
+
+TEST(ImportGltf, StripWindingAlternates) {
+    // Hand-checked against the spec: strip triangle i is (i, i+1, i+2) for even i and
+    // (i, i+2, i+1) for odd i; fan triangle i is (i+1, i+2, 0). A zig-zag strip of
+    // 5 vertices up +y and a fan around the origin: every triangle faces +z.
+    TempDir dir;
+    auto write = [&](const std::string& name, int mode, const std::vector<glm::vec3>& points) {
+        std::string bytes(reinterpret_cast<const char*>(points.data()), points.size() * sizeof(glm::vec3));
+        test::writeText(dir / (name + ".bin"), bytes);
+        glm::vec3 lo(1e9f), hi(-1e9f);
+        for (const glm::vec3& p : points) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        test::writeText(dir / (name + ".gltf"),
+                        format(R"({{"asset": {{"version": "2.0"}}, "buffers": [{{"uri": "{}.bin", "byteLength": {}}}],
+                                   "bufferViews": [{{"buffer": 0, "byteLength": {}}}],
+                                   "accessors": [{{"bufferView": 0, "componentType": 5126, "count": {}, "type": "VEC3",
+                                                  "min": [{}, {}, {}], "max": [{}, {}, {}]}}],
+                                   "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "mode": {}}}]}}],
+                                   "nodes": [{{"mesh": 0}}], "scenes": [{{"nodes": [0]}}]}})",
+                               name, bytes.size(), bytes.size(), points.size(), lo.x, lo.y, lo.z, hi.x, hi.y, hi.z,
+                               mode));
+    };
+    write("strip", 5, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 2, 0}});
+    write("fan", 6, {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}});
+    for (const char* name : {"strip.gltf", "fan.gltf"}) {
+        SCOPED_TRACE(name);
+        const Mesh m = loadMesh(dir / name);
+        EXPECT_EQ(m.triangleCount(), 3u);
+        for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+            const glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                             c = m.positions[m.indices[3 * t + 2]];
+            EXPECT_GT(glm::cross(b - a, c - a).z, 0.0) << "triangle " << t << " faces +z";
+        }
+    }
+}
+
+TEST(ImportGltf, Gltf1AndDracoAreRefusedByName) {
+    TempDir dir;
+    const std::string v1 = "glTF 1.0 is not supported (re-export as glTF 2.0)";
+    const std::string draco = "Draco-compressed meshes are not supported (export without Draco compression)";
+    test::writeText(dir / "v1.gltf", R"({"asset": {"version": "1.0"}, "meshes": {"box": {"primitives": []}}})");
+    expectInputError(dir / "v1.gltf", v1);
+    test::writeText(dir / "v1_unversioned.gltf", R"({"accessors": {"a": {}}, "meshes": {}})");
+    expectInputError(dir / "v1_unversioned.gltf", v1);
+    std::string glb = "glTF";
+    const std::uint32_t header[2] = {1, 20};  // KHR_binary_glTF: version 1
+    glb.append(reinterpret_cast<const char*>(header), 8);
+    glb.append(8, '\0');
+    test::writeText(dir / "v1.glb", glb);
+    expectInputError(dir / "v1.glb", v1);
+
+    const std::string required = R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+        "extensionsRequired": ["KHR_draco_mesh_compression"], "meshes": [], "nodes": []})";
+    test::writeText(dir / "draco.gltf", required);
+    expectInputError(dir / "draco.gltf", draco);
+    // Used, not required, but the accessors hold no uncompressed fallback.
+    test::writeText(dir / "draco_used.gltf", R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0},
+                   "extensions": {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+        "nodes": [{"mesh": 0}]})");
+    expectInputError(dir / "draco_used.gltf", draco);
+    // Used, not required, with an uncompressed fallback (the spec's rule): read as glTF.
+    test::writeText(dir / "draco_fallback.gltf", R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+        "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0},
+                   "extensions": {"KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
+        "nodes": [{"mesh": 0}]})");
+    EXPECT_EQ(loadMesh(dir / "draco_fallback.gltf").triangleCount(), 1u);
+}
+
+TEST(ImportGltf, TestModelsGltf1AndDracoAreRefusedByName) {
+    SKIP_WITHOUT_TEST_MODELS();
+    for (const char* name : {"glTF/TwoBoxes/TwoBoxes.gltf", "glTF/CesiumMilkTruck/CesiumMilkTruck.gltf",
+                             "glTF/BoxTextured-glTF-Binary/BoxTextured.glb"})
+        expectInputError(kModels / name, "glTF 1.0 is not supported (re-export as glTF 2.0)");
+    expectInputError(kModels / "glTF2/draco/2CylinderEngine.gltf",
+                     "Draco-compressed meshes are not supported (export without Draco compression)");
+    EXPECT_EQ(loadMesh(kModels / "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb").triangleCount(), 121496u);
 }

@@ -17,7 +17,8 @@ namespace dawnforge {
 // axes are converted to metres and +Y up; STL, PLY, OFF and OBJ coordinates are taken as
 // metres as they are. Only glTF carries material IDs (COLOR_0); other formats leave
 // materialIds empty. Throws InputError naming the file if it is missing, empty,
-// unparsable, has no triangles, a non-finite coordinate or an index out of range.
+// unparsable, glTF 1.0 or Draco-compressed, has no triangles, a non-finite coordinate or
+// an index out of range.
 Mesh loadMesh(const std::filesystem::path& file);
 
 // A node that shows a mesh: its name, its world transform (with the file's unit and axis
