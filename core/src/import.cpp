@@ -160,9 +160,9 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
     checkObjLines(file, name);
     tinyobj::ObjReaderConfig config;
     // Debian's tinyobjloader (2.0.0rc10, built without mapbox earcut) splits a quad along
-    // its shorter diagonal, which lies outside a concave quad, and its own ear clipping
-    // decides convexity from the first edge alone: faces are read whole and triangulated
-    // by triangulatePolygon instead.
+    // its shorter diagonal, outside the quad for some concave ones, and its own ear
+    // clipping decides convexity from the first edge alone: faces are read whole and
+    // triangulated by triangulatePolygon instead.
     config.triangulate = false;
     config.vertex_color = false;
     config.mtl_search_path = file.parent_path().string();

@@ -217,6 +217,19 @@ TEST(ImportObj, ConcaveFacesAreEarClipped) {
     }
 }
 
+TEST(ImportObj, ConcaveQuadsAreSplitThroughTheirReflexCorner) {
+    // An arrowhead prism: caps (-1, 0), (0, 5), (1, 0), (0, 10), area 10 - 5 = 5. The shorter
+    // diagonal (length 2, which tinyobjloader would take) runs outside the cap.
+    TempDir dir;
+    std::string obj;
+    for (int z = 0; z < 2; ++z) obj += format("v -1 0 {}\nv 0 5 {}\nv 1 0 {}\nv 0 10 {}\n", z, z, z, z);
+    obj += "f 4 3 2 1\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+    test::writeText(dir / "arrow.obj", obj);
+    const Mesh m = loadMesh(dir / "arrow.obj");
+    expectSolid(m, 5.0, 1e-9);
+    EXPECT_NEAR(surfaceArea(m), 2 * 5.0 + 2 * std::sqrt(26.0) + 2 * std::sqrt(101.0), 1e-9);
+}
+
 TEST(ImportObj, DegeneratePolygonsStillGiveTheirTriangles) {
     TempDir dir;
     // Collinear corners, a bow tie, a repeated corner: n - 2 triangles each, no hang.
