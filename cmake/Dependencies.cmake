@@ -10,6 +10,7 @@ find_package(nlohmann_json 3.11 REQUIRED)
 find_package(CLI11 2.1 REQUIRED)
 find_package(tinyobjloader REQUIRED)
 find_package(TinyGLTF 2.7 REQUIRED)
+find_package(assimp 5.2 REQUIRED)
 find_package(TBB 2021 REQUIRED)
 find_package(CGAL 5.5 REQUIRED)
 find_package(Bullet 3.24 REQUIRED)
@@ -22,6 +23,18 @@ pkg_check_modules(stb REQUIRED IMPORTED_TARGET stb)
 # OpenVDB ships its find module in its own folder on Debian.
 list(APPEND CMAKE_MODULE_PATH /usr/lib/x86_64-linux-gnu/cmake/OpenVDB /usr/lib/cmake/OpenVDB)
 find_package(OpenVDB 10 REQUIRED)
+
+# Assimp's package puts libdraco.so.7 on its users' link lines, and Debian's draco exports a
+# tinygltf of its own under tinygltf's names: linked directly, it is searched before
+# libtinygltf.so and takes our tinygltf calls (a crash). Link libassimp.so alone; it loads
+# draco itself, after every library linked directly.
+if(NOT TARGET assimp::libassimp)
+  add_library(assimp::libassimp SHARED IMPORTED)
+  get_target_property(_assimp_location assimp::assimp LOCATION)
+  get_target_property(_assimp_includes assimp::assimp INTERFACE_INCLUDE_DIRECTORIES)
+  set_target_properties(assimp::libassimp PROPERTIES
+    IMPORTED_LOCATION ${_assimp_location} INTERFACE_INCLUDE_DIRECTORIES "${_assimp_includes}")
+endif()
 
 # Bullet's package file sets variables only; give it a target like the others.
 if(NOT TARGET Bullet::Bullet)
