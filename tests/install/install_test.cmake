@@ -8,7 +8,7 @@
 # - the consumer's calls into sim, exporters and runtime fail.
 #
 # Variables (-D): BUILD_DIR (the dawnforge build), SOURCE_ROOT (its source), WORK_DIR
-# (wiped first), GENERATOR, BUILD_TYPE, CXX_COMPILER, CXX_FLAGS (sanitizer flags the
+# (wiped first, removed after success), GENERATOR, BUILD_TYPE, CXX_COMPILER, CXX_FLAGS (sanitizer flags the
 # libraries were built with: the consumer must use them too), LAUNCHER (ccache or empty).
 foreach(var BUILD_DIR SOURCE_ROOT WORK_DIR GENERATOR BUILD_TYPE CXX_COMPILER)
   if(NOT ${var})
@@ -54,3 +54,6 @@ endif()
 step("building the consumer" ${CMAKE_COMMAND} --build ${consumer})
 step("running the consumer" ${consumer}/consumer)
 message("${step_output}")
+# Kept when a step fails, to look into; gone when all is well (a sanitized build's prefix
+# is about a gigabyte).
+file(REMOVE_RECURSE ${WORK_DIR})
