@@ -1,6 +1,19 @@
 # Run as a script (cmake -P) at build time: embeds every shader file given in SHADERS
 # (a ;-list of paths) into OUTPUT, a C++ source defining dawnforge::runtime::detail::kShaders.
 # Each file becomes a raw string literal named by its file name (e.g. "ocean.vert").
+# One more, "materials.glsl", is generated from MATERIALS (core's materials.hpp): each
+# "kName = N," line of its enum becomes "const uint kName = Nu;", so C++ and GLSL share the table.
+file(STRINGS ${MATERIALS} material_lines REGEX "^ *k[A-Za-z]+ = [0-9]+,")
+set(materials_glsl "// Generated from core/include/dawnforge/core/materials.hpp: the 16 material IDs.\n")
+foreach(line IN LISTS material_lines)
+  string(REGEX REPLACE "^ *(k[A-Za-z]+) = ([0-9]+),.*" "const uint \\1 = \\2u;" decl "${line}")
+  string(APPEND materials_glsl "${decl}\n")
+endforeach()
+list(LENGTH material_lines material_count)
+if(NOT material_count EQUAL 16)
+  message(FATAL_ERROR "${MATERIALS}: expected 16 material lines 'kName = N,', found ${material_count}")
+endif()
+
 set(body "// Generated from runtime/shaders/ by cmake/EmbedShaders.cmake: do not edit.\n")
 string(APPEND body "#include \"shader_sources.hpp\"\n\nnamespace dawnforge::runtime::detail {\n\n")
 string(APPEND body "const EmbeddedShader kShaders[] = {\n")
@@ -15,6 +28,8 @@ foreach(file IN LISTS SHADERS)
   string(APPEND body "    {\"${name}\", R\"dfshader(${text})dfshader\"},\n")
   math(EXPR count "${count} + 1")
 endforeach()
+string(APPEND body "    {\"materials.glsl\", R\"dfshader(${materials_glsl})dfshader\"},\n")
+math(EXPR count "${count} + 1")
 string(APPEND body "};\nconst std::size_t kShaderCount = ${count};\n\n}  // namespace dawnforge::runtime::detail\n")
 file(WRITE ${OUTPUT}.tmp "${body}")
 file(COPY_FILE ${OUTPUT}.tmp ${OUTPUT} ONLY_IF_DIFFERENT)

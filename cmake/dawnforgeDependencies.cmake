@@ -35,8 +35,7 @@ macro(dawnforge_find_pkg_config prefix module)
   endif()
 endmacro()
 
-# FindTetGen.cmake and FindBullet.cmake sit next to this file, in the source tree as in
-# the installed package.
+# FindBullet.cmake sits next to this file, in the source tree as in the installed package.
 list(PREPEND CMAKE_MODULE_PATH ${CMAKE_CURRENT_LIST_DIR})
 
 dawnforge_find_dependency(Threads)                  # through TBB and OpenVDB
@@ -44,15 +43,27 @@ dawnforge_find_dependency(glm 0.9.9)                # core (public: its maths ty
 dawnforge_find_dependency(nlohmann_json 3.11)       # every file format
 dawnforge_find_dependency(tinyobjloader)            # core: OBJ import
 dawnforge_find_dependency(TinyGLTF 2.7)             # core, exporters: glTF
+dawnforge_find_dependency(assimp 5.2)               # core: FBX, Collada, STL, PLY, OFF import (below)
 dawnforge_find_dependency(TBB 2021)                 # procgen, sim, runtime: parallel loops
 dawnforge_find_dependency(CGAL 5.5)                 # core, procgen, sim (with GMP and MPFR)
-dawnforge_find_dependency(TetGen 1.5)               # sim: seeds inside the mesh (FindTetGen.cmake)
 dawnforge_find_dependency(Bullet 3.24)              # sim: rigid bodies (FindBullet.cmake)
 dawnforge_find_dependency(OpenEXR 3.1)              # exporters: VAT textures
 dawnforge_find_dependency(glfw3 3.3)                # runtime: the window
 dawnforge_find_dependency(OpenGL COMPONENTS EGL)    # runtime: the headless context
 dawnforge_find_pkg_config(epoxy epoxy>=1.5)         # runtime: GL function loading
 dawnforge_find_pkg_config(stb stb)                  # exporters: PNG
+
+# Assimp's package puts libdraco.so.7 on its users' link lines, and Debian's draco exports a
+# tinygltf of its own under tinygltf's names: linked directly, it is searched before
+# libtinygltf.so and takes our tinygltf calls (a crash). Link libassimp.so alone; it loads
+# draco itself, after every library linked directly.
+if(NOT TARGET assimp::libassimp)
+  add_library(assimp::libassimp SHARED IMPORTED)
+  get_target_property(_assimp_location assimp::assimp LOCATION)
+  get_target_property(_assimp_includes assimp::assimp INTERFACE_INCLUDE_DIRECTORIES)
+  set_target_properties(assimp::libassimp PROPERTIES
+    IMPORTED_LOCATION ${_assimp_location} INTERFACE_INCLUDE_DIRECTORIES "${_assimp_includes}")
+endif()
 
 # sim: rough cut surfaces. OpenVDB ships its find module in its own folder
 # (<prefix>/lib/<arch>/cmake/OpenVDB on Debian). That folder also holds a FindTBB and a

@@ -1,18 +1,17 @@
 #include "commands.hpp"
+#include "folders.hpp"
 
-#include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/core/validate.hpp>
-#include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/sim/fracture.hpp>
-#include <dawnforge/sim/fracture_io.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <memory>
 #include <sstream>
 
 namespace dawnforge::cli {
@@ -21,10 +20,19 @@ namespace {
 
 constexpr int kMaxPiecesWithoutForce = 20000;
 
+// What only the command line has; everything else is the library's FractureSettings.
+struct FractureOptions {
+    std::filesystem::path file;
+    std::filesystem::path outputDir;
+    std::filesystem::path pointsFile;  // empty: sample seeds
+    bool force = false;
+    bool repair = false;
+    sim::FractureSettings settings;
+};
+
 // Seed points: one "x y z" per line; blank lines and lines starting with # are skipped.
 std::vector<glm::dvec3> readPoints(const std::filesystem::path& file) {
-    std::ifstream in(file);
-    if (!in) throw InputError(format("{}: cannot read the points file", file.string()));
+    std::istringstream in(readTextFile(file));
     std::vector<glm::dvec3> points;
     std::string line;
     for (std::size_t lineNo = 1; std::getline(in, line); ++lineNo) {
@@ -43,54 +51,19 @@ std::vector<glm::dvec3> readPoints(const std::filesystem::path& file) {
     return points;
 }
 
-}  // namespace
-
-int runFracture(const FractureOptions& options, const CommonOptions& common) {
-    const auto start = std::chrono::steady_clock::now();
-    sim::FractureSettings settings;
-    settings.pieces = options.pieces;
-    settings.seed = options.seed;
-    if (!options.impact.empty()) settings.impact = glm::dvec3(options.impact[0], options.impact[1], options.impact[2]);
-    settings.impactRadius = options.radius;
-    settings.density = options.density;
-    settings.interiorMaterial = static_cast<std::uint8_t>(options.interiorMaterial);
-    settings.interiorUvScale = options.uvScale;
-    settings.minVolume = options.minVolume;
-    settings.levels = options.levels;
-    settings.levelPieces = options.levelPieces;
-    settings.roughness = options.roughness;
-    settings.roughScale = options.roughScale;
-    settings.voxelSize = options.voxelSize;
-    if (!options.pointsFile.empty()) settings.points = readPoints(options.pointsFile);
-    const std::size_t requested = settings.points.empty() ? std::size_t(settings.pieces) : settings.points.size();
-    if (requested > std::size_t(kMaxPiecesWithoutForce) && !options.force)
-        throw InputError(format("{} pieces is above the limit of {}; add --force if you mean it", requested,
-                                kMaxPiecesWithoutForce));
-    if (settings.levels > 0 && !settings.impact) throw InputError("--levels needs --impact (pieces near it are re-fractured)");
-
+Mesh loadInput(const FractureOptions& options) {
     Mesh mesh = loadMesh(options.file);
-    if (options.repair) {
-        RepairReport report;
-        mesh = repairMesh(mesh, &report);
-        for (const std::string& action : report.actions)
-            std::fprintf(stderr, "dawnforge fracture: repaired %s: %s\n", options.file.string().c_str(), action.c_str());
-    }
-    sim::FractureResult result;
-    {
-        StderrProgress progress("fracture", !common.quiet && stderrIsTerminal());
-        try {
-            result = sim::fractureMesh(mesh, settings, progress.callback());
-        } catch (const InputError& e) {
-            throw InputError(format("{}: {}", options.file.string(), e.what()));
-        }
-    }
-    ensureOutputDirectory(options.outputDir);
-    exporters::writeGlb(sim::fractureScene(result), options.outputDir / "fragments.glb");
-    writeFileAtomically(options.outputDir / "fracture.json", sim::fractureJson(result, settings, options.file.string()));
+    if (!options.repair) return mesh;
+    RepairReport report;
+    mesh = repairMesh(mesh, &report);
+    for (const std::string& action : report.actions)
+        std::fprintf(stderr, "dawnforge fracture: repaired %s: %s\n", options.file.string().c_str(), action.c_str());
+    return mesh;
+}
 
+void printSummary(const FractureOptions& options, const sim::FractureResult& result, double seconds) {
     double total = 0.0;
     for (const sim::FracturePiece& p : result.pieces) total += p.mass.volume;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("fractured %s into %zu pieces with %zu bonds in %.2f s\n", options.file.string().c_str(),
                 result.pieces.size(), result.bonds.size(), seconds);
     std::printf("  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)%s\n", result.inputVolume, total,
@@ -98,7 +71,81 @@ int runFracture(const FractureOptions& options, const CommonOptions& common) {
                 result.merged ? format(", {} slivers merged", result.merged).c_str() : "");
     std::printf("  wrote %s and %s\n", (options.outputDir / "fragments.glb").string().c_str(),
                 (options.outputDir / "fracture.json").string().c_str());
+}
+
+int runFracture(FractureOptions& options, const CommonOptions& common) {
+    const auto start = std::chrono::steady_clock::now();
+    sim::FractureSettings& settings = options.settings;
+    if (!options.pointsFile.empty()) settings.points = readPoints(options.pointsFile);
+    const std::size_t requested = settings.points.empty() ? std::size_t(settings.pieces) : settings.points.size();
+    if (requested > std::size_t(kMaxPiecesWithoutForce) && !options.force)
+        throw InputError(format("{} pieces is above the limit of {}; add --force if you mean it", requested,
+                                kMaxPiecesWithoutForce));
+    const Mesh mesh = loadInput(options);
+    sim::FractureResult result;
+    {
+        StderrProgress progress = progressFor("fracture", common);
+        try {
+            result = sim::fractureMesh(mesh, settings, progress.callback());
+        } catch (const RepairableMeshError& e) {
+            throw InputError(format("{}: {}{}", options.file.string(), e.what(),
+                                    options.repair ? "" : "; add --repair to repair it first"));
+        } catch (const InputError& e) {
+            throw InputError(format("{}: {}", options.file.string(), e.what()));
+        }
+    }
+    writeFractureFolder(result, settings, options.file.string(), options.outputDir);
+    printSummary(options, result, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;
+}
+
+void addSeedOptions(CLI::App& cmd, FractureOptions& o) {
+    sim::FractureSettings& s = o.settings;
+    cmd.add_option("--pieces", s.pieces, "Number of Voronoi cells (seeds), exact for uniform sampling")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--seed", s.seed, "Random seed")->capture_default_str();
+    addPointOption(cmd, "--impact", s.impact, "Cluster smaller pieces around this point X,Y,Z (m)");
+    cmd.add_option("--radius", s.impactRadius, "Impact radius (m)")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--points", o.pointsFile, "Seed points file, one 'x y z' per line (instead of --pieces)");
+    cmd.add_option("--levels", s.levels, "Fracture pieces within --radius of --impact again, this many times")
+        ->check(CLI::Range(0, 4))->capture_default_str();
+    cmd.add_option("--level-pieces", s.levelPieces, "Pieces per re-fractured piece")
+        ->check(CLI::Range(2, 1000))->capture_default_str();
+}
+
+void addPieceOptions(CLI::App& cmd, sim::FractureSettings& s) {
+    cmd.add_option("--density", s.density, "Density (kg/m^3)")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option_function<int>(
+           "--interior-material", [&s](int id) { s.interiorMaterial = std::uint8_t(id); },
+           "Material ID of cut faces (0-15)")
+        ->check(CLI::Range(0, 15))->default_str(std::to_string(s.interiorMaterial));
+    cmd.add_option("--uv-scale", s.interiorUvScale, "Metres per UV unit on cut faces")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--min-volume", s.minVolume, "Merge pieces below this volume (m^3) into their largest neighbour")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--roughness", s.roughness,
+                   "Noisy cut surfaces of this amplitude (m), meshed from OpenVDB level sets; 0: exact planar cuts")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--rough-scale", s.roughScale, "Noise wavelength (m); 0: four times --roughness")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--voxel", s.voxelSize, "Level-set voxel size (m) for --roughness; 0: automatic")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+}
+
+}  // namespace
+
+Command addFracture(CLI::App& app, CommonOptions& common) {
+    auto options = std::make_shared<FractureOptions>();
+    CLI::App* cmd =
+        app.add_subcommand("fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json");
+    cmd->add_option("FILE", options->file, "Closed mesh: glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ... (metres, +Y up after import)")->required();
+    cmd->add_option("-o,--output", options->outputDir, "Output folder")->required();
+    addSeedOptions(*cmd, *options);
+    addPieceOptions(*cmd, options->settings);
+    cmd->add_flag("--force", options->force, "Allow more than 20,000 pieces");
+    cmd->add_flag("--repair", options->repair, "Repair an open or inconsistent mesh first (and say so on stderr)");
+    addThreadsOption(*cmd, common);
+    return {cmd, [options, &common] { return runFracture(*options, common); }};
 }
 
 }  // namespace dawnforge::cli

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <iostream>
+#include <memory>
 
 namespace dawnforge::cli {
 
@@ -34,9 +35,12 @@ nlohmann::ordered_json reportJson(const MeshReport& r) {
     return j;
 }
 
-}  // namespace
+struct InspectOptions {
+    std::filesystem::path file;
+    std::filesystem::path repairOutput;  // empty: no repair
+};
 
-int runInspect(const InspectOptions& options, const CommonOptions&) {
+int runInspect(const InspectOptions& options) {
     const Mesh mesh = loadMesh(options.file);
     nlohmann::ordered_json out;
     out["file"] = options.file.string();
@@ -55,6 +59,20 @@ int runInspect(const InspectOptions& options, const CommonOptions&) {
     }
     std::cout << out.dump(2) << '\n';
     return 0;
+}
+
+}  // namespace
+
+Command addInspect(CLI::App& app, CommonOptions&) {
+    auto options = std::make_shared<InspectOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "inspect", "Report on a mesh as JSON on stdout: triangles, vertices, closed, manifold, "
+                   "self_intersecting, volume, bbox_min, bbox_max, ...");
+    cmd->add_option("FILE", options->file, "Mesh file: glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ...")->required();
+    cmd->add_option("--repair", options->repairOutput,
+                    "Also write a repaired copy (GLB): duplicate points merged, degenerate triangles "
+                    "removed, orientation made consistent, borders stitched, holes filled");
+    return {cmd, [options] { return runInspect(*options); }};
 }
 
 }  // namespace dawnforge::cli

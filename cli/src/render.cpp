@@ -14,20 +14,26 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <regex>
+#include <memory>
+#include <optional>
 
 namespace dawnforge::cli {
 
 namespace {
 
-glm::ivec2 parseImageSize(const std::string& text) {
-    static const std::regex pattern(R"(^\s*(\d{1,5})\s*[xX]\s*(\d{1,5})\s*$)");
-    std::smatch m;
-    if (std::regex_match(text, m, pattern)) {
-        const int w = std::stoi(m[1].str()), h = std::stoi(m[2].str());
-        if (w >= 16 && h >= 16 && w <= 16384 && h <= 16384) return {w, h};
-    }
-    throw InputError(format("--size: expected W x H in pixels, each 16 to 16384, e.g. 1280x720 (got \"{}\")", text));
+// --size in pixels: "W x H", each a whole number from 16 to 16384.
+glm::ivec2 imageSize(const std::string& text) {
+    const glm::dvec2 size = parseSize(text, "--size", "pixels");
+    const bool whole = size.x == std::floor(size.x) && size.y == std::floor(size.y);
+    if (!whole || size.x < 16 || size.y < 16 || size.x > 16384 || size.y > 16384)
+        throw InputError(format("--size: expected W x H in pixels, each 16 to 16384, e.g. 1280x720 (got \"{}\")", text));
+    return glm::ivec2(size);
+}
+
+CLI::Option* addImageSizeOption(CLI::App& cmd, glm::ivec2& size, const char* description) {
+    return cmd.add_option_function<std::string>("--size", [&size](const std::string& text) { size = imageSize(text); },
+                                                description)
+        ->default_str(sizeText(glm::dvec2(size)));
 }
 
 runtime::ViewCamera chooseCamera(const runtime::SceneFile& scene, const runtime::Renderer& renderer, const std::string& name) {
@@ -50,10 +56,19 @@ std::unique_ptr<runtime::GlContext> headlessContext() {
     }
 }
 
-}  // namespace
+struct RenderOptions {
+    std::filesystem::path sceneFile;
+    std::filesystem::path output;
+    std::string camera;                // empty: the scene's first camera, or an overview
+    std::optional<double> timeOfDay;   // hours; default: the scene's
+    std::optional<int> frame;          // time = frame / fps; default: the scene's time
+    bool stats = false;
+    int repeat = 5;                    // --stats: timed frames after one warm-up; the median is reported
+    runtime::RendererOptions renderer;
+};
 
 int runRender(const RenderOptions& options, const CommonOptions& common) {
-    const glm::ivec2 size = parseImageSize(options.size);
+    const glm::ivec2 size = options.renderer.size;
     std::string extension = options.output.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (extension != ".png")
@@ -64,9 +79,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     if (options.output.has_parent_path()) ensureOutputDirectory(options.output.parent_path());
 
     const auto context = headlessContext();
-    runtime::RendererOptions ro;
-    ro.size = size;
-    runtime::Renderer renderer(scene, ro);
+    runtime::Renderer renderer(scene, options.renderer);
     runtime::FrameSettings frame;
     frame.camera = chooseCamera(scene, renderer, options.camera);
     frame.time = options.frame ? double(*options.frame) / scene.fps : scene.time;
@@ -102,11 +115,18 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     return 0;
 }
 
+struct ViewOptions {
+    std::filesystem::path sceneFile;
+    std::string camera;
+    int frames = 0;  // > 0: close after this many frames (smoke tests, timing the window path)
+    runtime::RendererOptions renderer;
+};
+
 int runView(const ViewOptions& options, const CommonOptions& common) {
-    const glm::ivec2 size = parseImageSize(options.size);
     const runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
-    const auto window = runtime::GlContext::window(size, "dawnforge view: " + options.sceneFile.string());
-    runtime::RendererOptions ro;
+    const auto window =
+        runtime::GlContext::window(options.renderer.size, "dawnforge view: " + options.sceneFile.string());
+    runtime::RendererOptions ro = options.renderer;
     ro.size = window->framebufferSize();
     runtime::Renderer renderer(scene, ro);
     runtime::FrameSettings frame;
@@ -151,6 +171,38 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                     window->description().c_str());
     return 0;
+}
+
+}  // namespace
+
+Command addRender(CLI::App& app, CommonOptions& common) {
+    auto o = std::make_shared<RenderOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "render", "Render a scene file headless (EGL) to a PNG: the city, destruction VATs, the ocean, sky and sun");
+    cmd->add_option("SCENE", o->sceneFile, "Scene file (scene.json)")->required();
+    cmd->add_option("-o,--output", o->output, "PNG file to write")->required();
+    addImageSizeOption(*cmd, o->renderer.size, "Image size WxH");
+    cmd->add_option("--camera", o->camera, "Named camera of the scene (default: its first, or an overview)");
+    cmd->add_option("--time-of-day", o->timeOfDay, "Hours, 0 to 24 (default: the scene's)");
+    cmd->add_option("--frame", o->frame, "Frame number: scene time = frame / fps (default: the scene's time)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_flag("--stats", o->stats, "Print per-pass GPU and CPU times as JSON on stdout");
+    cmd->add_option("--repeat", o->repeat, "With --stats: timed frames after a warm-up (median reported)")
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+    return {cmd, [o, &common] { return runRender(*o, common); }};
+}
+
+Command addView(CLI::App& app, CommonOptions& common) {
+    auto o = std::make_shared<ViewOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Show a scene file in a window: drag to look, WASD/QE to fly (shift: faster), 1-9 cameras, "
+                "[ ] time of day, R restart the destruction, Esc quit");
+    cmd->add_option("SCENE", o->sceneFile, "Scene file (scene.json)")->required();
+    addImageSizeOption(*cmd, o->renderer.size, "Window size WxH");
+    cmd->add_option("--camera", o->camera, "Named camera to start from");
+    cmd->add_option("--frames", o->frames, "Close after this many frames (0: when the window is closed)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    return {cmd, [o, &common] { return runView(*o, common); }};
 }
 
 }  // namespace dawnforge::cli

@@ -1,79 +1,58 @@
 #include "commands.hpp"
+#include "folders.hpp"
 
-#include <dawnforge/core/atomic_file.hpp>
-#include <dawnforge/core/error.hpp>
-#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 #include <dawnforge/sim/rigidbody_io.hpp>
 
 #include <chrono>
-#include <cstring>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
+#include <memory>
 
 namespace dawnforge::cli {
 
 namespace {
 
-glm::dvec3 point(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+// What only the command line has; everything else is the library's SimulationSettings.
+// The projectile and explosion options fill their own structs (with the library's
+// defaults) and take effect when --projectile or --explosion names a point.
+struct SimulateOptions {
+    std::filesystem::path fractureDir;
+    std::filesystem::path outputDir;
+    std::vector<std::filesystem::path> colliders;
+    bool noGround = false;
+    std::optional<glm::dvec3> projectileTarget, projectileDirection, explosionCenter;
+    sim::Projectile projectile;
+    sim::Explosion explosion;
+    sim::SimulationSettings settings;
+};
 
-std::vector<std::byte> readBytes(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::vector<char> chars((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in.eof() && !in) throw InputError(format("{}: cannot be read", file.string()));
-    std::vector<std::byte> bytes(chars.size());
-    std::memcpy(bytes.data(), chars.data(), chars.size());
-    return bytes;
-}
-
-sim::SimulationSettings simulationSettings(const SimulateOptions& o) {
-    sim::SimulationSettings s;
-    s.frames = o.frames;
-    s.fps = o.fps;
-    s.substeps = o.substeps;
-    s.solverIterations = o.iterations;
-    s.seed = o.seed;
-    s.strength = o.strength;
-    s.strengthVariation = o.strengthVariation;
-    s.triggerTime = o.triggerTime;
-    s.friction = o.friction;
-    s.restitution = o.restitution;
-    s.hullVertices = o.hullVertices;
-    s.margin = o.margin;
+sim::SimulationSettings settingsOf(const SimulateOptions& o) {
+    sim::SimulationSettings s = o.settings;
     s.ground = !o.noGround;
-    if (o.groundHeight) s.groundHeight = *o.groundHeight;
-    if (!o.projectile.empty()) {
-        sim::Projectile p;
-        p.target = point(o.projectile);
-        if (!o.projectileDirection.empty()) p.direction = point(o.projectileDirection);
-        p.mass = o.projectileMass;
-        p.speed = o.projectileSpeed;
-        p.radius = o.projectileRadius;
-        s.projectile = p;
+    if (o.projectileTarget) {
+        s.projectile = o.projectile;
+        s.projectile->target = *o.projectileTarget;
+        if (o.projectileDirection) s.projectile->direction = *o.projectileDirection;
     }
-    if (!o.explosion.empty()) s.explosion = sim::Explosion{point(o.explosion), o.explosionRadius, o.explosionImpulse};
-    s.collapse = o.collapse;
+    if (o.explosionCenter) {
+        s.explosion = o.explosion;
+        s.explosion->center = *o.explosionCenter;
+    }
     for (const std::filesystem::path& file : o.colliders) s.colliders.push_back(loadMesh(file));
     return s;
 }
 
-}  // namespace
-
 int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
-    const sim::SimulationSettings settings = simulationSettings(options);
+    const sim::SimulationSettings settings = settingsOf(options);
     const sim::FractureFolder fracture = sim::loadFracture(options.fractureDir);
     sim::SimulationResult result;
     {
-        StderrProgress progress("simulate", !common.quiet && stderrIsTerminal());
+        StderrProgress progress = progressFor("simulate", common);
         result = sim::simulate(fracture.pieces, fracture.bonds, settings, progress.callback());
     }
-    const std::vector<std::byte> fragments = readBytes(options.fractureDir / "fragments.glb");
-
-    sim::writeSimulation(options.outputDir, result, settings, fracture.pieces, options.fractureDir.string());
-    writeFileAtomically(options.outputDir / "fragments.glb", fragments);
+    writeSimulationFolder(result, settings, fracture.pieces, options.fractureDir, options.outputDir);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("simulated %zu pieces for %d frames at %g fps (%d substeps) in %.2f s\n", result.pieces,
@@ -82,6 +61,63 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     std::printf("  wrote %s, transforms.bin, turns.bin and a copy of fragments.glb\n",
                 (options.outputDir / "sim.json").string().c_str());
     return 0;
+}
+
+void addSolverOptions(CLI::App& cmd, sim::SimulationSettings& s) {
+    cmd.add_option("--frames", s.frames, "Frames to write; frame 0 is the rest pose")
+        ->check(CLI::Range(1, 100000))->capture_default_str();
+    cmd.add_option("--fps", s.fps, "Frames per second")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--substeps", s.substeps, "Fixed simulation steps per frame")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    cmd.add_option("--iterations", s.solverIterations, "Constraint solver iterations per step")
+        ->check(CLI::Range(1, 1000))->capture_default_str();
+    cmd.add_option("--seed", s.seed, "Random seed (varies each bond's strength)")->capture_default_str();
+    cmd.add_option("--strength", s.strength,
+                   "Glue strength (Pa): a bond breaks when its stress (axial + bending) above what it carries at rest "
+                   "exceeds this; 0: no glue")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--strength-variation", s.strengthVariation, "Relative spread of bond strengths, from the seed")
+        ->check(CLI::Range(0.0, 0.99))->capture_default_str();
+    cmd.add_option("--friction", s.friction, "Friction coefficient of pieces, ground and colliders")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--restitution", s.restitution, "Bounciness (0: none, 1: elastic)")
+        ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    cmd.add_option("--hull-vertices", s.hullVertices, "Collision hull vertex budget per piece")
+        ->check(CLI::Range(4, 1000))->capture_default_str();
+    cmd.add_option("--margin", s.margin, "Collision margin (m)")->check(CLI::PositiveNumber)->capture_default_str();
+}
+
+void addTriggerOptions(CLI::App& cmd, SimulateOptions& o) {
+    cmd.add_option("--trigger-time", o.settings.triggerTime, "When the projectile, explosion or collapse happens (s)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    addPointOption(cmd, "--projectile", o.projectileTarget, "Throw a ball at this point X,Y,Z (m)");
+    addPointOption(cmd, "--projectile-dir", o.projectileDirection, "Direction of travel DX,DY,DZ (default -1,0,0)");
+    cmd.add_option("--projectile-mass", o.projectile.mass, "kg")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--projectile-speed", o.projectile.speed, "m/s")->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--projectile-radius", o.projectile.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
+    addPointOption(cmd, "--explosion", o.explosionCenter, "Push pieces away from this point X,Y,Z (m)");
+    cmd.add_option("--explosion-radius", o.explosion.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--explosion-impulse", o.explosion.impulse, "N·s at the centre, falling off as (1 - d/r)^2")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_flag("--collapse", o.settings.collapse, "Every bond breaks at the trigger time (gravity collapse)");
+}
+
+}  // namespace
+
+Command addSimulate(CLI::App& app, CommonOptions& common) {
+    auto o = std::make_shared<SimulateOptions>();
+    CLI::App* cmd = app.add_subcommand("simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, "
+                                                   "DIR/transforms.bin, DIR/turns.bin (+ a copy of fragments.glb)");
+    cmd->add_option("FRACTURE_DIR", o->fractureDir, "Folder written by 'dawnforge fracture'")->required();
+    cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
+    addSolverOptions(*cmd, o->settings);
+    addTriggerOptions(*cmd, *o);
+    cmd->add_flag("--no-ground", o->noGround, "No ground plane");
+    cmd->add_option("--ground-height", o->settings.groundHeight,
+                    "Ground plane height (m); default the lowest point of the pieces");
+    cmd->add_option("--collider", o->colliders, "Static collider mesh (any format inspect reads), world space; repeatable");
+    addThreadsOption(*cmd, common);
+    return {cmd, [o, &common] { return runSimulate(*o, common); }};
 }
 
 }  // namespace dawnforge::cli

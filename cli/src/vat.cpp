@@ -7,19 +7,21 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 
 namespace dawnforge::cli {
 
-int runVat(const VatOptions& options, const CommonOptions&) {
-    const auto start = std::chrono::steady_clock::now();
-    exporters::VatSettings settings;
-    const auto preset = exporters::parseVatPreset(options.preset);
-    if (!preset) throw InputError(format("unknown preset '{}' (expected native, unreal or unity)", options.preset));
-    settings.preset = *preset;
-    settings.half = options.half;
-    settings.maxWidth = options.maxWidth;
-    settings.name = options.name;
+namespace {
 
+struct VatOptions {
+    std::filesystem::path simDir;
+    std::filesystem::path outputDir;
+    exporters::VatSettings settings;
+};
+
+int runVat(const VatOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const exporters::VatSettings& settings = options.settings;
     const sim::SimulationFolder sim = sim::loadSimulation(options.simDir);
     exporters::VatAnimation animation;
     animation.pieces = sim.meshes;
@@ -40,6 +42,32 @@ int runVat(const VatOptions& options, const CommonOptions&) {
     std::printf("  wrote %s/%s_{pos.exr,rot.exr,mesh.glb,data.json}\n", options.outputDir.string().c_str(),
                 settings.name.c_str());
     return 0;
+}
+
+}  // namespace
+
+Command addVat(CLI::App& app, CommonOptions&) {
+    auto o = std::make_shared<VatOptions>();
+    exporters::VatSettings& s = o->settings;
+    CLI::App* cmd = app.add_subcommand(
+        "vat", "Bake a simulation into vertex animation textures (SideFX Labs VAT 3.0 rigid layout): "
+               "DIR/<name>_pos.exr, _rot.exr, _mesh.glb, _data.json");
+    cmd->add_option("SIM_DIR", o->simDir, "Folder written by 'dawnforge simulate'")->required();
+    cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
+    cmd->add_option_function<std::string>(
+           "--preset",
+           [&s](const std::string& name) {
+               const auto preset = exporters::parseVatPreset(name);
+               if (!preset) throw InputError(format("unknown preset '{}' (expected native, unreal or unity)", name));
+               s.preset = *preset;
+           },
+           "native (metres, +Y up), unreal (Z-up centimetres) or unity")
+        ->default_str(std::string(exporters::vatPresetName(s.preset)));
+    cmd->add_flag("--half", s.half, "RGBA16F textures instead of RGBA32F");
+    cmd->add_option("--max-width", s.maxWidth, "Texture width limit; more pieces take several rows per frame")
+        ->check(CLI::Range(1, exporters::kVatMaxTextureSize))->capture_default_str();
+    cmd->add_option("--name", s.name, "File name prefix")->capture_default_str();
+    return {cmd, [o] { return runVat(*o); }};
 }
 
 }  // namespace dawnforge::cli

@@ -17,6 +17,7 @@ std::string oneLine(std::string message) {
     }
     for (char& c : message)
         if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    while (!message.empty() && message.back() == ' ') message.pop_back();
     return message;
 }
 

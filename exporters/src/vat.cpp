@@ -36,6 +36,8 @@ struct Engine {
     glm::dmat3 axes{1.0};
     double scale = 1.0;
     double handedness = 1.0;  // det(axes)
+    // Applied to the packed triple, an axial vector: a mirror also flips its sign.
+    glm::dmat3 tripleMap() const { return handedness * axes; }
 };
 
 Engine engineOf(VatPreset preset) {
@@ -130,6 +132,221 @@ std::vector<std::byte> exrBytes(const std::vector<float>& rgba, const VatLayout&
     return result;
 }
 
+void checkAnimation(const VatAnimation& animation, std::size_t n) {
+    if (!(animation.fps > 0.0)) throw InputError(format("fps must be positive (got {})", animation.fps));
+    if (animation.transforms.size() != std::size_t(animation.frames) * n * 7)
+        throw InputError(format("the transforms hold {} values, but {} frames of {} pieces need {}",
+                                animation.transforms.size(), animation.frames, n, std::size_t(animation.frames) * n * 7));
+    for (float v : animation.transforms)
+        if (!std::isfinite(v)) throw InputError("the transforms contain a value that is not finite");
+    if (!animation.turns.empty() && animation.turns.size() != std::size_t(animation.frames) * n)
+        throw InputError(format("the turns hold {} values, but {} frames of {} pieces need {}", animation.turns.size(),
+                                animation.frames, n, std::size_t(animation.frames) * n));
+    for (float v : animation.turns)
+        if (!std::isfinite(v)) throw InputError("the turns contain a value that is not finite");
+}
+
+// Each piece's farthest vertex from its pivot (m).
+std::vector<double> pieceRadii(std::span<const Mesh> pieces) {
+    std::vector<double> radius(pieces.size(), 0.0);
+    for (std::size_t j = 0; j < pieces.size(); ++j)
+        for (const glm::vec3& p : pieces[j].positions) radius[j] = std::max(radius[j], double(glm::length(p)));
+    return radius;
+}
+
+// Where piece j's texel of frame k starts in an RGBA texture.
+std::size_t texelOffset(const VatLayout& L, std::size_t j, int k) {
+    const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
+    return (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+}
+
+// The turns from q to nextQ that the rotation alpha carries: the simulated path's when
+// given (`index` into them), else the shortest way. Below a microradian, zero.
+double turnsToNext(const glm::dquat& q, const PackedRotation& packed, const glm::dquat& nextQ,
+                   const PackedRotation& next, std::span<const float> pathTurns, std::size_t index) {
+    double turns = 0.0;
+    if (!pathTurns.empty()) {
+        // The path runs from q(k) to ±q(k+1) as written; packing may have negated
+        // either end, which flips the sign the shader needs.
+        const double flip = (glm::dot(packed.canonical, q) < 0.0) != (glm::dot(next.canonical, nextQ) < 0.0) ? -1.0 : 1.0;
+        turns = flip * double(pathTurns[index]);
+    } else {
+        const double d = glm::dot(packed.canonical, next.canonical);
+        turns = (d < 0.0 ? -1.0 : 1.0) * std::acos(std::min(1.0, std::abs(d))) / kPi;
+    }
+    if (std::abs(turns) < 1e-6 / (2.0 * kPi)) turns = 0.0;
+    return turns;
+}
+
+// Decodes a stored texel pair as the native shader does (back in our axes) and keeps
+// the worst error the precision cost.
+void measureError(Vat& vat, const Engine& engine, const float* pos, const float* rot, const glm::dvec3& P,
+                  const glm::dquat& canonical, double radius) {
+    const glm::dvec3 storedP(pos[0], pos[1], pos[2]);
+    const glm::dvec3 decodedP = glm::transpose(engine.axes) * storedP / engine.scale;
+    const glm::dvec3 storedT(rot[0], rot[1], rot[2]);
+    const glm::dquat decodedQ = glm::normalize(unpack(glm::transpose(engine.tripleMap()) * storedT, int(std::floor(4.0 * pos[3]))));
+    const double positionError = glm::length(decodedP - P);
+    const double rotationError = 2.0 * std::acos(std::min(1.0, std::abs(glm::dot(decodedQ, canonical))));
+    vat.maxPositionError = std::max(vat.maxPositionError, positionError);
+    vat.maxRotationError = std::max(vat.maxRotationError, rotationError);
+    vat.maxVertexError = std::max(vat.maxVertexError, positionError + 2.0 * std::sin(0.5 * rotationError) * radius);
+}
+
+// Piece j's texels, frame by frame: each orientation (relative to the rest pose) is
+// packed once and carried on as the next frame's start. Grows the bounds by the piece.
+void encodePiece(Vat& vat, const VatAnimation& animation, const Engine& engine, bool half, std::size_t j,
+                 double radius) {
+    const VatLayout& L = vat.layout;
+    const std::size_t n = L.pieces;
+    const glm::dquat rest = orientation(animation.transforms, j);
+    const auto relative = [&](int k) { return orientation(animation.transforms, std::size_t(k) * n + j) * glm::conjugate(rest); };
+    glm::dquat q = relative(0);
+    PackedRotation packed = pack(q);
+    for (int k = 0; k < L.frames; ++k) {
+        const std::size_t index = std::size_t(k) * n + j;
+        const glm::dvec3 P = position(animation.transforms, index);
+        glm::dquat nextQ = q;
+        PackedRotation next = packed;
+        double turns = 0.0;
+        if (k + 1 < L.frames) {
+            nextQ = relative(k + 1);
+            next = pack(nextQ);
+            turns = turnsToNext(q, packed, nextQ, next, animation.turns, index);
+            vat.maxTurnsPerFrame = std::max(vat.maxTurnsPerFrame, std::abs(turns));
+        }
+        const glm::dvec3 pe = engine.scale * (engine.axes * P);
+        const glm::dvec3 te = engine.tripleMap() * packed.triple;
+        const std::size_t texel = texelOffset(L, j, k);
+        float* pos = vat.position.data() + texel;
+        float* rot = vat.rotation.data() + texel;
+        for (int c = 0; c < 3; ++c) {
+            pos[c] = store(pe[c], half);
+            rot[c] = store(te[c], half);
+        }
+        pos[3] = store(0.25 * packed.dropped, half);
+        rot[3] = store(turns, half);
+        measureError(vat, engine, pos, rot, P, packed.canonical, radius);
+        vat.boundsMin = glm::min(vat.boundsMin, pe - glm::dvec3(engine.scale * radius));
+        vat.boundsMax = glm::max(vat.boundsMax, pe + glm::dvec3(engine.scale * radius));
+        q = nextQ;
+        packed = next;
+    }
+}
+
+// The mesh at frame 0, each piece with its lookup texel (TEXCOORD_1) and pivot
+// (TEXCOORD_2/3).
+void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, const Engine& engine) {
+    for (std::size_t j = 0; j < animation.pieces.size(); ++j) {
+        Mesh piece = animation.pieces[j];
+        const glm::dquat rest = orientation(animation.transforms, j);
+        const glm::dvec3 pivot = position(animation.transforms, j);
+        const std::size_t count = piece.positions.size();
+        for (glm::vec3& p : piece.positions) p = glm::vec3(rest * glm::dvec3(p) + pivot);
+        for (glm::vec3& v : piece.normals) v = glm::vec3(rest * glm::dvec3(v));
+        const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
+                               float((double(j / std::size_t(L.width)) + 0.5) / L.height));
+        const glm::dvec3 p = engine.scale * pivot;  // Houdini axes, engine units
+        piece.uv1.assign(count, lookup);
+        piece.uv2.assign(count, glm::vec2(float(p.x), 0.0f));          // Labs (px, 1), V flipped
+        piece.uv3.assign(count, glm::vec2(float(p.y), float(p.z)));    // Labs (py, 1 - pz), V flipped
+        piece.pieceIds.assign(count, std::uint32_t(j));
+        appendMesh(out, piece, glm::mat4(1.0f));
+    }
+}
+
+// The bounds on the 0.1 grid the Labs shaders expect, and with the Labs codes for the
+// rows per frame added (the encoded bounds the engine presets carry).
+struct EngineBounds {
+    glm::dvec3 lo{0.0}, hi{0.0};
+    glm::dvec3 encodedLo{0.0}, encodedHi{0.0};
+};
+
+EngineBounds engineBounds(const Vat& vat, const Engine& engine) {
+    EngineBounds b;
+    const double s = engine.scale;
+    for (int a = 0; a < 3; ++a) {
+        b.lo[a] = snapDown(vat.boundsMin[a], s);
+        b.hi[a] = snapUp(vat.boundsMax[a], s);
+    }
+    const int R = vat.layout.rowsPerFrame;
+    b.encodedLo = b.lo - glm::dvec3(0.0, double(R % 100) * 0.001 * s, 0.0);
+    b.encodedHi = b.hi + glm::dvec3(0.0, 0.0, (0.5 + 0.01 * double(R / 100)) * 0.1 * s);
+    return b;
+}
+
+// The two degenerate data triangles that carry the encoded bounds in an engine preset's
+// mesh: lookup UV (0, 0) (V flipped), piece id = pieces.
+void appendDataTriangles(Mesh& out, const EngineBounds& bounds, const Engine& engine, std::size_t pieces) {
+    Mesh data;
+    for (const glm::dvec3& corner : {bounds.encodedHi, bounds.encodedLo}) {
+        const glm::vec3 p(glm::transpose(engine.axes) * corner / engine.scale);  // back to glTF axes, metres
+        const std::uint32_t base = std::uint32_t(data.positions.size());
+        for (int i = 0; i < 3; ++i) data.positions.push_back(p);
+        data.indices.insert(data.indices.end(), {base, base + 1, base + 2});
+    }
+    const std::size_t m = data.positions.size();
+    data.normals.assign(m, glm::vec3(0, 1, 0));
+    data.uv0.assign(m, glm::vec2(0));
+    data.uv1.assign(m, glm::vec2(0, 1));
+    data.uv2.assign(m, glm::vec2(0));
+    data.uv3.assign(m, glm::vec2(0));
+    data.materialIds.assign(m, 0);
+    data.pieceIds.assign(m, std::uint32_t(pieces));
+    appendMesh(out, data, glm::mat4(1.0f));
+}
+
+// <name>_data.json: the layout, conventions and measured errors an importer needs.
+std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSettings& settings,
+                     const EngineBounds& bounds, const Engine& engine) {
+    const VatLayout& L = vat.layout;
+    nlohmann::ordered_json j;
+    j["format"] = "dawnforge.vat";
+    j["version"] = 1;
+    j["name"] = settings.name;
+    j["preset"] = std::string(vatPresetName(settings.preset));
+    j["mode"] = "rigid-body dynamics (SideFX Labs VAT 3.0 layout)";
+    j["frames"] = L.frames;
+    j["fps"] = animation.fps;
+    j["pieces"] = L.pieces;
+    j["W"] = L.width;
+    j["R"] = L.rowsPerFrame;
+    j["height"] = L.height;
+    j["precision"] = settings.half ? "half" : "float32";
+    j["units"] = settings.preset == VatPreset::Unreal ? "centimetres" : "metres";
+    j["axes"] = settings.preset == VatPreset::Native  ? "+Y up, right-handed (glTF)"
+                : settings.preset == VatPreset::Unity ? "Unity: x mirrored (-x, y, z)"
+                                                       : "Unreal: (x, z, y), Z up";
+    j["bounds"] = {{"min", vec(vat.boundsMin)}, {"max", vec(vat.boundsMax)}};
+    j["encoded_bounds"] = {{"min", vec(bounds.encodedLo)}, {"max", vec(bounds.encodedHi)}};
+    j["max_turns_per_frame"] = vat.maxTurnsPerFrame;
+    j["max_position_error"] = vat.maxPositionError;
+    j["max_rotation_error"] = vat.maxRotationError;
+    j["max_vertex_error"] = vat.maxVertexError;
+    j["textures"] = {{"position", settings.name + "_pos.exr"},
+                     {"rotation", settings.name + "_rot.exr"},
+                     {"channels", "RGBA"},
+                     {"type", settings.half ? "half" : "float"},
+                     {"compression", "PIZ"},
+                     {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
+    j["mesh"] = {{"file", settings.name + "_mesh.glb"},
+                 {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
+                 {"pivot", "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, engine units (Labs uv3 = (px, 1), "
+                           "uv4 = (py, 1 - pz) with V flipped)"},
+                 {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
+    if (settings.preset == VatPreset::Unity) {
+        // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
+        const glm::dvec3& lo = bounds.lo;
+        const glm::dvec3& hi = bounds.hi;
+        j["unity_material"] = {{"_B_autoPlayback", 1}, {"_frameCount", L.frames}, {"_playbackSpeed", 1.0},
+                               {"_houdiniFPS", animation.fps},   {"_B_interpolate", 1},
+                               {"_boundMinX", lo.x},             {"_boundMinY", lo.y},
+                               {"_boundMinZ", lo.z},             {"_boundMaxX", hi.x},
+                               {"_boundMaxY", hi.y},             {"_boundMaxZ", hi.z + 0.05 * engine.scale}};
+    }
+    return j.dump(1) + "\n";
+}
+
 }  // namespace
 
 std::optional<VatPreset> parseVatPreset(std::string_view name) {
@@ -165,7 +382,7 @@ VatLayout vatLayout(std::size_t pieces, int frames, int maxWidth) {
     const std::size_t height = rows * std::size_t(frames);
     if (height > std::size_t(kVatMaxTextureSize))
         throw InputError(format("{} frames × {} rows per frame = {} rows, more than {}; at most {} frames fit "
-                                "(fewer frames, or a larger --max-width if it is below {})",
+                                "(fewer frames, or a larger maximum width if it is below {})",
                                 frames, rows, height, kVatMaxTextureSize, kVatMaxTextureSize / rows, kVatMaxTextureSize));
     l.height = int(height);
     return l;
@@ -175,179 +392,21 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::size_t n = animation.pieces.size();
     Vat vat;
     vat.layout = vatLayout(n, animation.frames, settings.maxWidth);
-    if (!(animation.fps > 0.0)) throw InputError(format("fps must be positive (got {})", animation.fps));
-    if (animation.transforms.size() != std::size_t(animation.frames) * n * 7)
-        throw InputError(format("the transforms hold {} values, but {} frames of {} pieces need {}",
-                                animation.transforms.size(), animation.frames, n, std::size_t(animation.frames) * n * 7));
-    for (float v : animation.transforms)
-        if (!std::isfinite(v)) throw InputError("the transforms contain a value that is not finite");
-    if (!animation.turns.empty() && animation.turns.size() != std::size_t(animation.frames) * n)
-        throw InputError(format("the turns hold {} values, but {} frames of {} pieces need {}", animation.turns.size(),
-                                animation.frames, n, std::size_t(animation.frames) * n));
-    for (float v : animation.turns)
-        if (!std::isfinite(v)) throw InputError("the turns contain a value that is not finite");
-    const VatLayout& L = vat.layout;
+    checkAnimation(animation, n);
     const Engine engine = engineOf(settings.preset);
-    const glm::dmat3 tripleMap = engine.handedness * engine.axes;  // applied to the packed triple
-    const std::size_t texels = std::size_t(L.width) * std::size_t(L.height);
+    const std::size_t texels = std::size_t(vat.layout.width) * std::size_t(vat.layout.height);
     vat.position.assign(texels * 4, 0.0f);
     vat.rotation.assign(texels * 4, 0.0f);
-
-    std::vector<double> radius(n, 0.0);
-    for (std::size_t j = 0; j < n; ++j)
-        for (const glm::vec3& p : animation.pieces[j].positions) radius[j] = std::max(radius[j], double(glm::length(p)));
     vat.boundsMin = glm::dvec3(std::numeric_limits<double>::max());
     vat.boundsMax = glm::dvec3(-std::numeric_limits<double>::max());
+    const std::vector<double> radius = pieceRadii(animation.pieces);
+    for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
-    // Piece by piece, frame by frame: each orientation is packed once and carried on as
-    // the next frame's start.
-    for (std::size_t j = 0; j < n; ++j) {
-        const glm::dquat rest = orientation(animation.transforms, j);
-        const auto relative = [&](int k) { return orientation(animation.transforms, std::size_t(k) * n + j) * glm::conjugate(rest); };
-        glm::dquat q = relative(0);
-        PackedRotation packed = pack(q);
-        for (int k = 0; k < L.frames; ++k) {
-            const std::size_t index = std::size_t(k) * n + j;
-            const glm::dvec3 P = position(animation.transforms, index);
-            glm::dquat nextQ = q;
-            PackedRotation next = packed;
-            double turns = 0.0;
-            if (k + 1 < L.frames) {
-                nextQ = relative(k + 1);
-                next = pack(nextQ);
-                if (!animation.turns.empty()) {
-                    // The path runs from q(k) to ±q(k+1) as written; packing may have
-                    // negated either end, which flips the sign the shader needs.
-                    const double flip = (glm::dot(packed.canonical, q) < 0.0) != (glm::dot(next.canonical, nextQ) < 0.0) ? -1.0 : 1.0;
-                    turns = flip * double(animation.turns[index]);
-                } else {
-                    const double d = glm::dot(packed.canonical, next.canonical);
-                    turns = (d < 0.0 ? -1.0 : 1.0) * std::acos(std::min(1.0, std::abs(d))) / kPi;
-                }
-                if (std::abs(turns) < 1e-6 / (2.0 * kPi)) turns = 0.0;
-                vat.maxTurnsPerFrame = std::max(vat.maxTurnsPerFrame, std::abs(turns));
-            }
-            const glm::dvec3 pe = engine.scale * (engine.axes * P);
-            const glm::dvec3 te = tripleMap * packed.triple;
-            const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
-            const std::size_t texel = (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
-            float* pos = vat.position.data() + texel;
-            float* rot = vat.rotation.data() + texel;
-            for (int c = 0; c < 3; ++c) {
-                pos[c] = store(pe[c], settings.half);
-                rot[c] = store(te[c], settings.half);
-            }
-            pos[3] = store(0.25 * packed.dropped, settings.half);
-            rot[3] = store(turns, settings.half);
-
-            // Decode what was stored (our axes) and measure what the precision cost.
-            const glm::dvec3 storedP(pos[0], pos[1], pos[2]);
-            const glm::dvec3 decodedP = glm::transpose(engine.axes) * storedP / engine.scale;
-            const glm::dvec3 storedT(rot[0], rot[1], rot[2]);
-            const glm::dquat decodedQ = glm::normalize(unpack(glm::transpose(tripleMap) * storedT, int(std::floor(4.0 * pos[3]))));
-            const double positionError = glm::length(decodedP - P);
-            const double rotationError = 2.0 * std::acos(std::min(1.0, std::abs(glm::dot(decodedQ, packed.canonical))));
-            vat.maxPositionError = std::max(vat.maxPositionError, positionError);
-            vat.maxRotationError = std::max(vat.maxRotationError, rotationError);
-            vat.maxVertexError = std::max(vat.maxVertexError, positionError + 2.0 * std::sin(0.5 * rotationError) * radius[j]);
-            vat.boundsMin = glm::min(vat.boundsMin, pe - glm::dvec3(engine.scale * radius[j]));
-            vat.boundsMax = glm::max(vat.boundsMax, pe + glm::dvec3(engine.scale * radius[j]));
-            q = nextQ;
-            packed = next;
-        }
-    }
-
-    // The mesh at frame 0, one lookup texel and one pivot per piece.
-    for (std::size_t j = 0; j < n; ++j) {
-        Mesh piece = animation.pieces[j];
-        const glm::dquat rest = orientation(animation.transforms, j);
-        const glm::dvec3 pivot = position(animation.transforms, j);
-        const std::size_t count = piece.positions.size();
-        for (glm::vec3& p : piece.positions) p = glm::vec3(rest * glm::dvec3(p) + pivot);
-        for (glm::vec3& v : piece.normals) v = glm::vec3(rest * glm::dvec3(v));
-        const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
-                               float((double(j / std::size_t(L.width)) + 0.5) / L.height));
-        const glm::dvec3 p = engine.scale * pivot;  // Houdini axes, engine units
-        piece.uv1.assign(count, lookup);
-        piece.uv2.assign(count, glm::vec2(float(p.x), 0.0f));          // Labs (px, 1), V flipped
-        piece.uv3.assign(count, glm::vec2(float(p.y), float(p.z)));    // Labs (py, 1 - pz), V flipped
-        piece.pieceIds.assign(count, std::uint32_t(j));
-        appendMesh(vat.mesh, piece, glm::mat4(1.0f));
-    }
+    appendPieceMeshes(vat.mesh, animation, vat.layout, engine);
     vat.mesh.name = settings.name;
-
-    // Engine presets: bounds on the 0.1 grid with the Labs codes, and the two degenerate
-    // data triangles that carry them in the mesh (lookup UV (0, 0), piece id = pieces).
-    glm::dvec3 lo, hi;
-    const double s = engine.scale;
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = snapDown(vat.boundsMin[a], s);
-        hi[a] = snapUp(vat.boundsMax[a], s);
-    }
-    const glm::dvec3 encodedLo = lo - glm::dvec3(0.0, double(L.rowsPerFrame % 100) * 0.001 * s, 0.0);
-    const glm::dvec3 encodedHi = hi + glm::dvec3(0.0, 0.0, (0.5 + 0.01 * double(L.rowsPerFrame / 100)) * 0.1 * s);
-    if (settings.preset != VatPreset::Native) {
-        Mesh data;
-        for (const glm::dvec3& corner : {encodedHi, encodedLo}) {
-            const glm::vec3 p(glm::transpose(engine.axes) * corner / s);  // back to glTF axes, metres
-            const std::uint32_t base = std::uint32_t(data.positions.size());
-            for (int i = 0; i < 3; ++i) data.positions.push_back(p);
-            data.indices.insert(data.indices.end(), {base, base + 1, base + 2});
-        }
-        const std::size_t m = data.positions.size();
-        data.normals.assign(m, glm::vec3(0, 1, 0));
-        data.uv0.assign(m, glm::vec2(0));
-        data.uv1.assign(m, glm::vec2(0, 1));
-        data.uv2.assign(m, glm::vec2(0));
-        data.uv3.assign(m, glm::vec2(0));
-        data.materialIds.assign(m, 0);
-        data.pieceIds.assign(m, std::uint32_t(n));
-        appendMesh(vat.mesh, data, glm::mat4(1.0f));
-    }
-
-    nlohmann::ordered_json j;
-    j["format"] = "dawnforge.vat";
-    j["version"] = 1;
-    j["name"] = settings.name;
-    j["preset"] = std::string(vatPresetName(settings.preset));
-    j["mode"] = "rigid-body dynamics (SideFX Labs VAT 3.0 layout)";
-    j["frames"] = L.frames;
-    j["fps"] = animation.fps;
-    j["pieces"] = n;
-    j["W"] = L.width;
-    j["R"] = L.rowsPerFrame;
-    j["height"] = L.height;
-    j["precision"] = settings.half ? "half" : "float32";
-    j["units"] = settings.preset == VatPreset::Unreal ? "centimetres" : "metres";
-    j["axes"] = settings.preset == VatPreset::Native  ? "+Y up, right-handed (glTF)"
-                : settings.preset == VatPreset::Unity ? "Unity: x mirrored (-x, y, z)"
-                                                       : "Unreal: (x, z, y), Z up";
-    j["bounds"] = {{"min", vec(vat.boundsMin)}, {"max", vec(vat.boundsMax)}};
-    j["encoded_bounds"] = {{"min", vec(encodedLo)}, {"max", vec(encodedHi)}};
-    j["max_turns_per_frame"] = vat.maxTurnsPerFrame;
-    j["max_position_error"] = vat.maxPositionError;
-    j["max_rotation_error"] = vat.maxRotationError;
-    j["max_vertex_error"] = vat.maxVertexError;
-    j["textures"] = {{"position", settings.name + "_pos.exr"},
-                     {"rotation", settings.name + "_rot.exr"},
-                     {"channels", "RGBA"},
-                     {"type", settings.half ? "half" : "float"},
-                     {"compression", "PIZ"},
-                     {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
-    j["mesh"] = {{"file", settings.name + "_mesh.glb"},
-                 {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
-                 {"pivot", "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, engine units (Labs uv3 = (px, 1), "
-                           "uv4 = (py, 1 - pz) with V flipped)"},
-                 {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
-    if (settings.preset == VatPreset::Unity) {
-        // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
-        j["unity_material"] = {{"_B_autoPlayback", 1}, {"_frameCount", L.frames}, {"_playbackSpeed", 1.0},
-                               {"_houdiniFPS", animation.fps},   {"_B_interpolate", 1},
-                               {"_boundMinX", lo.x},             {"_boundMinY", lo.y},
-                               {"_boundMinZ", lo.z},             {"_boundMaxX", hi.x},
-                               {"_boundMaxY", hi.y},             {"_boundMaxZ", hi.z + 0.05 * s}};
-    }
-    vat.dataJson = j.dump(1) + "\n";
+    const EngineBounds bounds = engineBounds(vat, engine);
+    if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);
+    vat.dataJson = dataJson(vat, animation, settings, bounds, engine);
     return vat;
 }
 

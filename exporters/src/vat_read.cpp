@@ -3,6 +3,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/core/import.hpp>
 
 #include <ImfChannelList.h>
@@ -26,14 +27,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-
-std::string readText(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(format("{}: cannot be read", file.string()));
-    std::ostringstream text;
-    text << in.rdbuf();
-    return std::move(text).str();
-}
 
 const Json& member(const Json& object, const char* key, const std::string& file) {
     const auto it = object.find(key);
@@ -218,7 +211,7 @@ VatFile readVat(const std::filesystem::path& dir, const std::string& name) {
     const std::string file = dataPath.string();
     Json root;
     try {
-        root = Json::parse(readText(dataPath));
+        root = Json::parse(readTextFile(dataPath));
     } catch (const Json::exception& e) {
         throw InputError(format("{}: not valid JSON: {}", file, oneLine(e.what())));
     }

@@ -16,14 +16,13 @@
 // faces meet vertex to vertex, corners included.
 #include <dawnforge/procgen/building.hpp>
 #include "mesh_builder.hpp"
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/seed.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <optional>
 
 namespace dawnforge::procgen {
@@ -39,16 +38,14 @@ const char* roomKindName(RoomKind kind) {
 
 namespace {
 
-constexpr double kRiser = 0.2;        // stairs: target step height
-constexpr double kMinTread = 0.23;  // with kRiser: about 41 degrees, steep but a stair
+constexpr double kRiser = 0.2;          // stairs: target step height
+constexpr double kMinTread = 0.23;      // with kRiser: about 41 degrees, steep but a stair
 constexpr double kStairWidth = 1.1;
-constexpr double kGlassRecess = 0.08; // glass sits this far behind the outer face
-constexpr double kBandHeight = 0.25;  // floor band and cornice
-constexpr double kMinEdge = 1.5;
-constexpr double kMaxShedRise = 3.0;
-constexpr double kMinInnerWidth = 2.4;  // metres inside the walls, along and across the footprint's first edge  // metres from the low to the high side of a shed roof      // footprints lose vertices until every edge is this long
-
-double cross2(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+constexpr double kGlassRecess = 0.08;   // glass sits this far behind the outer face
+constexpr double kBandHeight = 0.25;    // floor band and cornice
+constexpr double kMinEdge = 1.5;        // footprints lose vertices until every edge is this long
+constexpr double kMaxShedRise = 3.0;    // metres from the low to the high side of a shed roof
+constexpr double kMinInnerWidth = 2.4;  // metres inside the walls, along and across the footprint's first edge
 
 // A wall segment between an outer line (o0 -> o1) and an inner line (i0 -> i1) parallel to
 // it at distance `thickness` on the left (inside). Positions along the wall are distances s
@@ -178,82 +175,6 @@ std::vector<double> levelsOf(double y0, double y1, std::span<const std::vector<O
     return levels;
 }
 
-// The polygon moved inward by d along each edge's normal (mitred corners). Convex input,
-// d small against the edges.
-Polygon2 mitreOffset(std::span<const glm::dvec2> poly, double d) {
-    const std::size_t n = poly.size();
-    Polygon2 out(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 p = poly[(i + n - 1) % n], c = poly[i], q = poly[(i + 1) % n];
-        const glm::dvec2 d0 = glm::normalize(c - p), d1 = glm::normalize(q - c);
-        const glm::dvec2 n0{-d0.y, d0.x}, n1{-d1.y, d1.x};
-        // c + x with dot(x, n0) = d and dot(x, n1) = d.
-        const double det = cross2(n0, n1);
-        out[i] = std::abs(det) < 1e-12 ? c + n0 * d : c + glm::dvec2((d * n1.y - d * n0.y), (n0.x * d - n1.x * d)) / det;
-    }
-    return out;
-}
-
-// Drops vertices of a convex polygon (making it smaller) until every edge is at least `minEdge`.
-Polygon2 dropShortEdges(Polygon2 poly, double minEdge) {
-    while (poly.size() > 3) {
-        std::size_t worst = poly.size();
-        double shortest = minEdge;
-        for (std::size_t i = 0; i < poly.size(); ++i) {
-            const double len = glm::distance(poly[i], poly[(i + 1) % poly.size()]);
-            if (len < shortest) shortest = len, worst = i;
-        }
-        if (worst == poly.size()) break;
-        // Remove whichever end of the short edge costs less area.
-        const std::size_t n = poly.size(), a = worst, b = (worst + 1) % n;
-        auto cost = [&](std::size_t i) {
-            return std::abs(cross2(poly[i] - poly[(i + n - 1) % n], poly[(i + 1) % n] - poly[(i + n - 1) % n]));
-        };
-        poly.erase(poly.begin() + static_cast<std::ptrdiff_t>(cost(a) <= cost(b) ? a : b));
-    }
-    return poly;
-}
-
-// Distance from p along unit dir to where it leaves the convex polygon.
-double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir) {
-    double best = INFINITY;
-    for (std::size_t i = 0, n = convex.size(); i < n; ++i) {
-        const glm::dvec2 a = convex[i], b = convex[(i + 1) % n];
-        const glm::dvec2 e = b - a, outN{e.y, -e.x};
-        const double denom = glm::dot(dir, outN);
-        if (denom <= 1e-12) continue;
-        best = std::min(best, glm::dot(a - p, outN) / denom);
-    }
-    return std::max(0.0, best);
-}
-
-// The piece of convex `poly` with lo <= dot(p, axis) <= hi.
-Polygon2 slab(std::span<const glm::dvec2> poly, glm::dvec2 axis, double lo, double hi) {
-    Polygon2 piece = clipHalfPlane(poly, axis, hi);
-    if (!piece.empty()) piece = clipHalfPlane(piece, -axis, -lo);
-    return piece;
-}
-
-// Where the line {p : dot(p, axis) = value} crosses convex `poly`, as the range of
-// dot(p, other) on it; empty optional when it misses.
-std::optional<std::pair<double, double>> chord(std::span<const glm::dvec2> poly, glm::dvec2 axis, double value,
-                                                glm::dvec2 other) {
-    constexpr double kOnLine = 1e-7;  // vertices this close count as on the line (clipping leaves ~1e-15)
-    double lo = INFINITY, hi = -INFINITY;
-    auto take = [&](glm::dvec2 p) {
-        lo = std::min(lo, glm::dot(p, other));
-        hi = std::max(hi, glm::dot(p, other));
-    };
-    for (std::size_t i = 0, n = poly.size(); i < n; ++i) {
-        const glm::dvec2 a = poly[i], b = poly[(i + 1) % n];
-        const double da = glm::dot(a, axis) - value, db = glm::dot(b, axis) - value;
-        if (std::abs(da) <= kOnLine) take(a);
-        if ((da < -kOnLine && db > kOnLine) || (da > kOnLine && db < -kOnLine)) take(a + (b - a) * (da / (da - db)));
-    }
-    if (!(hi > lo)) return std::nullopt;
-    return std::make_pair(lo, hi);
-}
-
 // --- Floor layout -------------------------------------------------------------------------
 
 enum class LayoutKind { DoubleLoaded, SingleLoaded, Enfilade };
@@ -330,7 +251,7 @@ std::vector<Piece> splitSide(std::span<const glm::dvec2> poly, const PolygonFram
                              double sideLo, double sideHi, std::span<const double> cuts, int side,
                              const FloorLayout& layout) {
     std::vector<Piece> pieces;
-    const Polygon2 strip = slab(poly, sideAxis, sideLo, sideHi);
+    const Polygon2 strip = clipStrip(poly, sideAxis, sideLo, sideHi);
     if (strip.empty()) return pieces;
     std::vector<double> bounds{-INFINITY};
     bounds.insert(bounds.end(), cuts.begin(), cuts.end());
@@ -338,7 +259,8 @@ std::vector<Piece> splitSide(std::span<const glm::dvec2> poly, const PolygonFram
     const double vOrigin = glm::dot(f.origin, f.v);
     for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
         const double lo = bounds[i], hi = bounds[i + 1];
-        const Polygon2 p = slab(strip, f.v, std::isinf(lo) ? -1e30 : lo + vOrigin, std::isinf(hi) ? 1e30 : hi + vOrigin);
+        const Polygon2 p =
+            clipStrip(strip, f.v, std::isinf(lo) ? -1e30 : lo + vOrigin, std::isinf(hi) ? 1e30 : hi + vOrigin);
         if (p.size() < 3 || signedArea(p) < 1.0) continue;
         Piece piece;
         piece.polygon = p;
@@ -362,7 +284,7 @@ std::vector<Piece> layoutPieces(const BuildContext& ctx, const Section& section)
     if (L.kind == LayoutKind::Enfilade) return splitSide(section.inner, f, f.u, -1e30, 1e30, L.cutsLow, -1, L);
     Piece corridor;
     corridor.kind = RoomKind::Corridor;
-    corridor.polygon = slab(section.inner, f.u, L.corridor0 + uOrigin, L.corridor1 + uOrigin);
+    corridor.polygon = clipStrip(section.inner, f.u, L.corridor0 + uOrigin, L.corridor1 + uOrigin);
     pieces.push_back(corridor);
     if (L.kind == LayoutKind::DoubleLoaded) {
         auto low = splitSide(section.inner, f, f.u, -1e30, L.corridor0 + uOrigin, L.cutsLow, 0, L);
@@ -507,271 +429,371 @@ struct BuildingStyle {
     bool shop = false, balconies = false;
 };
 
-// Everything of one section's storeys: exterior rings with openings, interiors, LOD1 facade.
-void buildSection(const BuildContext& ctx, const Section& sec, const BuildingStyle& style, bool isTop, Building& b,
-                  MeshBuilder& lod0, MeshBuilder& lod1) {
-    const BuildingRecipe& br = ctx.recipe.buildings;
-    const InteriorRecipe& ir = ctx.recipe.interiors;
-    const std::size_t n = sec.footprint.size();
-    const double t = br.wallThickness;
-    const double balconyDepth = std::min(1.2, ctx.recipe.lots.setback - br.trimDepth - 0.1);
-    // Perimeter run at each corner for continuous facade u.
-    std::vector<double> run(n + 1, 0.0);
-    for (std::size_t i = 0; i < n; ++i) run[i + 1] = run[i] + glm::distance(sec.footprint[i], sec.footprint[(i + 1) % n]);
-    // The front edge of this section: the edge most aligned with the frame's u, nearest the street.
+// What every storey of a section shares: the rooms of each floor, the wall on the street, and
+// the perimeter run at each corner (run[e] at corner e), so that facade u continues round corners.
+struct SectionPlan {
+    std::vector<Piece> pieces;
     std::size_t front = 0;
-    double bestFront = INFINITY;
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 d = glm::normalize(sec.footprint[(i + 1) % n] - sec.footprint[i]);
-        if (glm::dot(d, ctx.frame.u) < 0.9) continue;
-        const double v = glm::dot(0.5 * (sec.footprint[i] + sec.footprint[(i + 1) % n]) - ctx.frame.origin, ctx.frame.v);
-        if (v < bestFront) bestFront = v, front = i;
+    std::vector<double> run;
+};
+
+// One storey of a section. Its rooms are the section's pieces, in order, from `firstRoom` on.
+struct Storey {
+    int floor = 0;
+    double y0 = 0, y1 = 0;  // bottom and top
+    double slabTop = 0;     // top of the floor slab
+    int firstRoom = 0;
+};
+
+// Where one room meets exterior wall `edge`: from sa to sb along the wall, measured from the
+// wall's outer corner `o`.
+struct RoomOnWall {
+    const Piece& piece;
+    int roomId = 0;
+    std::size_t edge = 0;
+    glm::dvec2 o{0.0}, dir{0.0}, inward{0.0};
+    double sa = 0, sb = 0;
+};
+
+// A balcony outside a balcony door: from `start` on the wall's outer face, `length` along it.
+struct Balcony {
+    glm::dvec2 start{0.0}, dir{0.0}, outward{0.0};
+    double length = 0;
+};
+
+// The openings of one storey's exterior walls and what comes with them.
+struct StoreyOpenings {
+    std::vector<std::vector<Opening>> walls;  // per footprint edge, sorted along the wall
+    std::vector<Window> windows;
+    std::vector<Door> doors;  // the entrance
+    std::vector<Balcony> balconies;
+};
+
+// How far balconies reach out: at most 1.2 m, within the setback and clear of the trims;
+// buildings get none when that is 0.5 m or less.
+double balconyDepthOf(const CityRecipe& recipe) {
+    return std::min(1.2, recipe.lots.setback - recipe.buildings.trimDepth - 0.1);
+}
+
+// run[i]: the distance along the polygon's boundary from vertex 0 to vertex i (i = 0..n).
+std::vector<double> perimeterRun(std::span<const glm::dvec2> polygon) {
+    const std::size_t n = polygon.size();
+    std::vector<double> run(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i) run[i + 1] = run[i] + glm::distance(polygon[i], polygon[(i + 1) % n]);
+    return run;
+}
+
+// Where `piece` meets exterior wall e of `sec` (its edges on the wall's inner face); nullopt
+// when it does not.
+std::optional<RoomOnWall> roomOnWall(const Section& sec, std::size_t e, const Piece& piece, int roomId) {
+    const std::size_t n = sec.footprint.size(), m = piece.polygon.size();
+    const glm::dvec2 a = sec.inner[e], c = sec.inner[(e + 1) % n];
+    const glm::dvec2 dir = glm::normalize(c - a);
+    RoomOnWall wall{piece, roomId, e, sec.footprint[e], dir, {-dir.y, dir.x}, INFINITY, -INFINITY};
+    for (std::size_t k = 0; k < m; ++k) {
+        const glm::dvec2 p = piece.polygon[k], q = piece.polygon[(k + 1) % m];
+        if (std::abs(cross(dir, p - a)) > 1e-6 || std::abs(cross(dir, q - a)) > 1e-6) continue;
+        if (glm::dot(q - p, dir) <= 0.0) continue;
+        wall.sa = std::min(wall.sa, glm::dot(p - wall.o, dir));
+        wall.sb = std::max(wall.sb, glm::dot(q - wall.o, dir));
     }
-    const std::vector<Piece> pieces = layoutPieces(ctx, sec);
-    // LOD1 openings per edge, over all storeys (their columns are shared by every storey).
-    std::vector<std::vector<Opening>> lod1Openings(n);
-    std::vector<std::vector<std::pair<int, std::vector<Opening>>>> lod1PerStorey(n);
+    if (!(wall.sb > wall.sa)) return std::nullopt;
+    return wall;
+}
 
-    for (int floor = sec.firstFloor; floor < sec.firstFloor + sec.floorCount; ++floor) {
-        const double y0 = ctx.floorY[floor], y1 = ctx.floorY[floor + 1];
-        const double slabTop = y0 + ir.slabThickness;
-        const int firstRoom = static_cast<int>(b.rooms.size());
-        for (const Piece& p : pieces) b.rooms.push_back({static_cast<int>(b.rooms.size()), floor, p.kind, p.polygon});
-        b.roomsPerFloor.push_back(static_cast<int>(pieces.size()));
+// The stretch of a room's wall where openings may go: clear of the interior walls at its ends.
+std::pair<double, double> openingRange(const InteriorRecipe& ir, const RoomOnWall& wall) {
+    const double endMargin = ir.wallThickness / 2 + 0.3;
+    return {wall.sa + endMargin, wall.sb - endMargin};
+}
 
-        // Openings on each exterior edge: windows per room interval, the entrance, balcony doors.
-        std::vector<std::vector<Opening>> openings(n);
-        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
-            const Piece& piece = pieces[pi];
-            const int roomId = firstRoom + static_cast<int>(pi);
-            const std::size_t m = piece.polygon.size();
-            for (std::size_t e = 0; e < n; ++e) {
-                const glm::dvec2 a = sec.inner[e], c = sec.inner[(e + 1) % n];
-                const glm::dvec2 dir = glm::normalize(c - a), inward{-dir.y, dir.x};
-                const glm::dvec2 o = sec.footprint[e];
-                // The piece's edges on this inner edge, as an s interval (distance from the outer corner).
-                double sa = INFINITY, sb = -INFINITY;
-                for (std::size_t k = 0; k < m; ++k) {
-                    const glm::dvec2 p = piece.polygon[k], q = piece.polygon[(k + 1) % m];
-                    if (std::abs(cross2(dir, p - a)) > 1e-6 || std::abs(cross2(dir, q - a)) > 1e-6) continue;
-                    if (glm::dot(q - p, dir) <= 0.0) continue;
-                    sa = std::min(sa, glm::dot(p - o, dir));
-                    sb = std::max(sb, glm::dot(q - o, dir));
-                }
-                if (!(sb > sa)) continue;
-                const double endMargin = ir.wallThickness / 2 + 0.3;
-                const double lo = sa + endMargin, hi = sb - endMargin, avail = hi - lo;
-                const bool isFront = e == front && floor == 0;
-                const glm::dvec2 boxOrigin = o + dir * sa;
-                auto addWindow = [&](double centre, double width, double sill, double height, bool door) {
-                    Opening op;
-                    op.s0 = centre - width / 2, op.s1 = centre + width / 2;
-                    op.z0 = sill, op.z1 = sill + height;
-                    const glm::dvec2 mid = o + dir * centre + inward * t;
-                    const double depth = rayExit(piece.polygon, mid, inward);
-                    MeshBuilder::Glass g;
-                    g.origin = boxOrigin;
-                    g.floorY = slabTop;
-                    g.dir = dir;
-                    g.depthIndex = {static_cast<float>(depth), static_cast<float>(roomId)};
-                    g.size = {static_cast<float>(sb - sa), static_cast<float>(y1 - slabTop)};
-                    op.glass = g;
-                    openings[e].push_back(op);
-                    b.windows.push_back({roomId, floor, mid, inward, width, sill, height, depth, door});
-                    if (door && balconyDepth > 0.5) {
-                        // The balcony: a slab and three railings, outside the door.
-                        const glm::dvec2 outward = -inward, start = o + dir * (op.s0 - 0.4);
-                        const double len = op.s1 - op.s0 + 0.8;
-                        const glm::dvec2 edgeA = start, edgeB = start + outward * balconyDepth;
-                        appendBox(lod0, edgeB, dir, len, balconyDepth, slabTop - 0.2, slabTop, kConcrete);
-                        appendBox(lod0, edgeB, dir, len, 0.06, slabTop, slabTop + 1.0, kMetal);
-                        appendBox(lod0, edgeA, outward, balconyDepth, 0.06, slabTop, slabTop + 1.0, kMetal);
-                        appendBox(lod0, start + dir * (len - 0.06), outward, balconyDepth, 0.06, slabTop, slabTop + 1.0, kMetal);
-                    }
-                };
-                const bool entrance = isFront && (piece.kind == RoomKind::Corridor ||
-                                                  (ctx.layout.kind == LayoutKind::Enfilade && pi == 0));
-                if (entrance) {
-                    const double w = std::min(br.doorWidth, avail);
-                    if (w < 0.8) continue;
-                    Opening door;
-                    door.s0 = 0.5 * (lo + hi) - w / 2, door.s1 = door.s0 + w;
-                    door.z0 = slabTop, door.z1 = std::min(y0 + br.doorHeight, y1 - 0.3);
-                    openings[e].push_back(door);
-                    b.doors.push_back({roomId, -1, false, o + dir * (0.5 * (lo + hi))});
-                    continue;
-                }
-                if (isFront && style.shop && piece.kind == RoomKind::Room) {
-                    const int k = std::max(1, static_cast<int>(std::floor(avail / br.bayWidth)));
-                    const double bay = avail / k, w = bay - 0.5;
-                    if (w < 0.8) continue;
-                    for (int i = 0; i < k; ++i)
-                        addWindow(lo + bay * (i + 0.5), w, slabTop + 0.3, std::min(y1 - 0.5, slabTop + 2.8) - slabTop - 0.3, false);
-                    continue;
-                }
-                const double w = br.windowWidth;
-                const int k = static_cast<int>(std::floor((avail + br.bayWidth - w) / br.bayWidth));
-                if (k < 1) continue;
-                const double sill = y0 + std::max(br.sillHeight, ir.slabThickness + 0.05);
-                const double wh = std::min(br.windowHeight, y1 - 0.25 - sill);
-                if (wh < 0.4) continue;
-                const double span = (k - 1) * br.bayWidth;
-                for (int i = 0; i < k; ++i) {
-                    const double centre = 0.5 * (lo + hi) - span / 2 + i * br.bayWidth;
-                    const bool balcony = style.balconies && floor > 0 && e == front && i == 0 &&
-                                         piece.kind == RoomKind::Room && balconyDepth > 0.5;
-                    if (balcony)
-                        addWindow(centre, w, slabTop, std::min(2.3, y1 - 0.25 - slabTop), true);
-                    else
-                        addWindow(centre, w, sill, wh, false);
-                }
-            }
-        }
-        for (auto& list : openings)
-            std::sort(list.begin(), list.end(), [](const Opening& x, const Opening& y) { return x.s0 < y.s0; });
-        // The exterior ring of this storey: one closed solid.
-        const std::vector<double> levels = levelsOf(y0, y1, openings);
-        const std::uint8_t outer = floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
+void placeEntrance(const BuildContext& ctx, const Storey& storey, const RoomOnWall& wall, StoreyOpenings& out) {
+    const BuildingRecipe& br = ctx.recipe.buildings;
+    const auto [lo, hi] = openingRange(ctx.recipe.interiors, wall);
+    const double w = std::min(br.doorWidth, hi - lo);
+    if (w < 0.8) return;
+    Opening door;
+    door.s0 = 0.5 * (lo + hi) - w / 2, door.s1 = door.s0 + w;
+    door.z0 = storey.slabTop, door.z1 = std::min(storey.y0 + br.doorHeight, storey.y1 - 0.3);
+    out.walls[wall.edge].push_back(door);
+    out.doors.push_back({wall.roomId, -1, false, wall.o + wall.dir * (0.5 * (lo + hi))});
+}
+
+// A window centred `centre` along the wall, or a balcony door (then with its balcony); the
+// glass carries the room's interior-mapping box.
+void placeWindow(const BuildContext& ctx, const Storey& storey, const RoomOnWall& wall, double centre, double width,
+                 double sill, double height, bool balconyDoor, StoreyOpenings& out) {
+    Opening op;
+    op.s0 = centre - width / 2, op.s1 = centre + width / 2;
+    op.z0 = sill, op.z1 = sill + height;
+    const glm::dvec2 mid = wall.o + wall.dir * centre + wall.inward * ctx.recipe.buildings.wallThickness;
+    const double depth = rayExit(wall.piece.polygon, mid, wall.inward);
+    MeshBuilder::Glass g;
+    g.origin = wall.o + wall.dir * wall.sa;
+    g.floorY = storey.slabTop;
+    g.dir = wall.dir;
+    g.depthIndex = {static_cast<float>(depth), static_cast<float>(wall.roomId)};
+    g.size = {static_cast<float>(wall.sb - wall.sa), static_cast<float>(storey.y1 - storey.slabTop)};
+    op.glass = g;
+    out.walls[wall.edge].push_back(op);
+    out.windows.push_back({wall.roomId, storey.floor, mid, wall.inward, width, sill, height, depth, balconyDoor});
+    if (balconyDoor)
+        out.balconies.push_back({wall.o + wall.dir * (op.s0 - 0.4), wall.dir, -wall.inward, op.s1 - op.s0 + 0.8});
+}
+
+// A shop front: the whole stretch in bays of glass from near the floor up.
+void placeShopWindows(const BuildContext& ctx, const Storey& storey, const RoomOnWall& wall, StoreyOpenings& out) {
+    const auto [lo, hi] = openingRange(ctx.recipe.interiors, wall);
+    const double avail = hi - lo, slabTop = storey.slabTop;
+    const int k = std::max(1, static_cast<int>(std::floor(avail / ctx.recipe.buildings.bayWidth)));
+    const double bay = avail / k, w = bay - 0.5;
+    if (w < 0.8) return;
+    const double height = std::min(storey.y1 - 0.5, slabTop + 2.8) - slabTop - 0.3;
+    for (int i = 0; i < k; ++i)
+        placeWindow(ctx, storey, wall, lo + bay * (i + 0.5), w, slabTop + 0.3, height, false, out);
+}
+
+// Windows in bays centred on the stretch; with `balcony`, the first is a balcony door.
+void placeWindows(const BuildContext& ctx, const Storey& storey, const RoomOnWall& wall, bool balcony,
+                  StoreyOpenings& out) {
+    const BuildingRecipe& br = ctx.recipe.buildings;
+    const auto [lo, hi] = openingRange(ctx.recipe.interiors, wall);
+    const double w = br.windowWidth;
+    const int k = static_cast<int>(std::floor((hi - lo + br.bayWidth - w) / br.bayWidth));
+    if (k < 1) return;
+    const double sill = storey.y0 + std::max(br.sillHeight, ctx.recipe.interiors.slabThickness + 0.05);
+    const double wh = std::min(br.windowHeight, storey.y1 - 0.25 - sill);
+    if (wh < 0.4) return;
+    const double span = (k - 1) * br.bayWidth;
+    for (int i = 0; i < k; ++i) {
+        const double centre = 0.5 * (lo + hi) - span / 2 + i * br.bayWidth;
+        if (balcony && i == 0)
+            placeWindow(ctx, storey, wall, centre, w, storey.slabTop, std::min(2.3, storey.y1 - 0.25 - storey.slabTop),
+                        true, out);
+        else
+            placeWindow(ctx, storey, wall, centre, w, sill, wh, false, out);
+    }
+}
+
+// The openings of one storey's exterior walls, room by room: on the ground floor's front the
+// entrance and (in a shop building) shop fronts; elsewhere windows, and balcony doors on the
+// front of a balcony building's upper floors.
+StoreyOpenings placeOpenings(const BuildContext& ctx, const Section& sec, const SectionPlan& plan,
+                             const BuildingStyle& style, const Storey& storey) {
+    const std::size_t n = sec.footprint.size();
+    StoreyOpenings out;
+    out.walls.resize(n);
+    for (std::size_t pi = 0; pi < plan.pieces.size(); ++pi) {
+        const Piece& piece = plan.pieces[pi];
         for (std::size_t e = 0; e < n; ++e) {
-            WallLine w = WallLine::between(sec.footprint[e], sec.footprint[(e + 1) % n], sec.inner[e], sec.inner[(e + 1) % n], t);
-            w.uOffset = run[e];
-            appendWall(lod0, w, openings[e], levels, false, {outer, kInteriorWall, style.wall, kTrim});
-            lod1PerStorey[e].push_back({floor, openings[e]});
+            const auto wall = roomOnWall(sec, e, piece, storey.firstRoom + static_cast<int>(pi));
+            if (!wall) continue;
+            const bool isFront = e == plan.front && storey.floor == 0;
+            const bool entrance = isFront && (piece.kind == RoomKind::Corridor ||
+                                              (ctx.layout.kind == LayoutKind::Enfilade && pi == 0));
+            const bool balcony = style.balconies && storey.floor > 0 && e == plan.front &&
+                                 piece.kind == RoomKind::Room && balconyDepthOf(ctx.recipe) > 0.5;
+            if (entrance)
+                placeEntrance(ctx, storey, *wall, out);
+            else if (isFront && style.shop && piece.kind == RoomKind::Room)
+                placeShopWindows(ctx, storey, *wall, out);
+            else
+                placeWindows(ctx, storey, *wall, balcony, out);
         }
-        // A floor band under every storey above the ground; a cornice on top of the section.
-        // (none on a section's first storey: the ground, or the terrace below a tower)
-        if (floor > sec.firstFloor) appendBand(lod0, sec.footprint, br.trimDepth, y0 - kBandHeight / 2, y0 + kBandHeight / 2);
+    }
+    for (auto& list : out.walls)
+        std::sort(list.begin(), list.end(), [](const Opening& x, const Opening& y) { return x.s0 < y.s0; });
+    return out;
+}
 
-        // Interiors: slabs, interior walls with doors, stairs.
-        if (!ir.enabled) continue;
-        const PolygonFrame& f = ctx.frame;
-        const double vOrigin = glm::dot(f.origin, f.v);
-        for (const Piece& piece : pieces) {
-            if (piece.kind != RoomKind::Stairs || floor == 0) {
-                lod0.prism(piece.polygon, y0, slabTop, kFloor, kFloor, kFloor);
-                continue;
-            }
-            // Above the ground the stairs room has a floor at the door and a landing where the
-            // flight from below arrives; the rest is the stairwell.
-            const StairFlight below = stairFlight(ctx, floor - 1);
-            for (const Polygon2& part : {slab(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
-                                         slab(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
-                if (part.size() >= 3 && signedArea(part) > 0.05) lod0.prism(part, y0, slabTop, kFloor, kFloor, kFloor);
+// A slab `depth` deep and three railings.
+void appendBalcony(MeshBuilder& mb, const Balcony& balcony, double depth, double slabTop) {
+    const glm::dvec2 start = balcony.start, dir = balcony.dir, outward = balcony.outward;
+    const double length = balcony.length;
+    const glm::dvec2 outer = start + outward * depth;
+    appendBox(mb, outer, dir, length, depth, slabTop - 0.2, slabTop, kConcrete);
+    appendBox(mb, outer, dir, length, 0.06, slabTop, slabTop + 1.0, kMetal);
+    appendBox(mb, start, outward, depth, 0.06, slabTop, slabTop + 1.0, kMetal);
+    appendBox(mb, start + dir * (length - 0.06), outward, depth, 0.06, slabTop, slabTop + 1.0, kMetal);
+}
+
+// The exterior wall of one storey: one closed solid, a ring of segments that all use the
+// rows of all the storey's openings.
+void appendExteriorRing(const BuildContext& ctx, const Section& sec, const SectionPlan& plan,
+                        const BuildingStyle& style, const Storey& storey,
+                        std::span<const std::vector<Opening>> openings, MeshBuilder& lod0) {
+    const std::size_t n = sec.footprint.size();
+    const std::vector<double> levels = levelsOf(storey.y0, storey.y1, openings);
+    const std::uint8_t outer = storey.floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
+    for (std::size_t e = 0; e < n; ++e) {
+        WallLine w = WallLine::between(sec.footprint[e], sec.footprint[(e + 1) % n], sec.inner[e],
+                                       sec.inner[(e + 1) % n], ctx.recipe.buildings.wallThickness);
+        w.uOffset = plan.run[e];
+        appendWall(lod0, w, openings[e], levels, false, {outer, kInteriorWall, style.wall, kTrim});
+    }
+}
+
+// Floor slabs. Above the ground the stairs room has a floor at its door and a landing where
+// the flight from below arrives; the rest is the stairwell.
+void appendFloorSlabs(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces,
+                      MeshBuilder& lod0) {
+    const PolygonFrame& f = ctx.frame;
+    const double vOrigin = glm::dot(f.origin, f.v);
+    for (const Piece& piece : pieces) {
+        if (piece.kind != RoomKind::Stairs || storey.floor == 0) {
+            lod0.prism(piece.polygon, storey.y0, storey.slabTop, kFloor, kFloor, kFloor);
+            continue;
         }
-        const double wallTop = y1;
-        auto interiorWall = [&](glm::dvec2 a, glm::dvec2 c, std::optional<double> doorAt) {
-            const WallLine w = WallLine::centred(a, c, ir.wallThickness);
-            std::vector<Opening> ops;
-            if (doorAt) {
-                Opening d;
-                d.s0 = *doorAt - ir.doorWidth / 2, d.s1 = *doorAt + ir.doorWidth / 2;
-                // A notch from the floor's bottom: the slabs on both sides fill it up to the floor.
-                d.z0 = y0, d.z1 = std::min(slabTop + ir.doorHeight, wallTop - 0.1);
-                d.leaf = false;
-                if (d.s0 > 0.05 && d.s1 < w.length - 0.05) ops.push_back(d);
-            }
-            // From the floor's bottom (through the slab) to the ceiling.
-            const std::vector<double> levels = levelsOf(y0, wallTop, std::span<const std::vector<Opening>>(&ops, 1));
-            appendWall(lod0, w, ops, levels, true, {kInteriorWall, kInteriorWall, kInteriorWall, kInteriorWall});
-            return !ops.empty();
-        };
-        const double uOrigin = glm::dot(f.origin, f.u);
-        const FloorLayout& L = ctx.layout;
-        auto linePoint = [&](double u, double v) { return f.origin + f.u * u + f.v * v; };
-        // Walls along the corridor, one per room with its door; cuts between rooms.
-        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
-            const Piece& piece = pieces[pi];
-            const int roomId = firstRoom + static_cast<int>(pi);
-            if (piece.kind == RoomKind::Corridor) continue;
-            if (L.kind != LayoutKind::Enfilade) {
-                const double uLine = piece.side == 0 ? L.corridor0 : L.corridor1;
-                const auto range = chord(piece.polygon, f.u, uLine + uOrigin, f.v);
-                if (!range) continue;
-                const double a = range->first - vOrigin, c = range->second - vOrigin;
-                if (c - a < 0.3) continue;
-                const double doorAt = piece.kind == RoomKind::Stairs
-                                          ? std::min(c - a - ir.doorWidth, ir.doorWidth / 2 + 0.3)
-                                          : 0.5 * (c - a);
-                const bool door = interiorWall(linePoint(uLine, a), linePoint(uLine, c), doorAt);
-                if (door) b.doors.push_back({roomId, firstRoom, false, linePoint(uLine, a + doorAt)});
-            }
-            // The cut at the piece's far end (v1), shared with the next piece of the same side.
-            if (std::isinf(piece.v1)) continue;
-            const auto range = chord(piece.polygon, f.v, piece.v1 + vOrigin, f.u);
+        const StairFlight below = stairFlight(ctx, storey.floor - 1);
+        for (const Polygon2& part : {clipStrip(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
+                                     clipStrip(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
+            if (part.size() >= 3 && signedArea(part) > 0.05)
+                lod0.prism(part, storey.y0, storey.slabTop, kFloor, kFloor, kFloor);
+    }
+}
+
+// An interior wall a -> c through the storey's slab up to its ceiling, with a doorway
+// centred `doorAt` along it where one fits; true when it got the doorway.
+bool appendInteriorWall(MeshBuilder& lod0, const InteriorRecipe& ir, const Storey& storey, glm::dvec2 a,
+                        glm::dvec2 c, std::optional<double> doorAt) {
+    const WallLine w = WallLine::centred(a, c, ir.wallThickness);
+    std::vector<Opening> ops;
+    if (doorAt) {
+        Opening d;
+        d.s0 = *doorAt - ir.doorWidth / 2, d.s1 = *doorAt + ir.doorWidth / 2;
+        // A notch from the floor's bottom: the slabs on both sides fill it up to the floor.
+        d.z0 = storey.y0, d.z1 = std::min(storey.slabTop + ir.doorHeight, storey.y1 - 0.1);
+        d.leaf = false;
+        if (d.s0 > 0.05 && d.s1 < w.length - 0.05) ops.push_back(d);
+    }
+    const std::vector<double> levels = levelsOf(storey.y0, storey.y1, std::span<const std::vector<Opening>>(&ops, 1));
+    appendWall(lod0, w, ops, levels, true, {kInteriorWall, kInteriorWall, kInteriorWall, kInteriorWall});
+    return !ops.empty();
+}
+
+// Each room's wall on the corridor, with its door, and the cut at its far end (v1), shared
+// with the next room of its side; an enfilade's cuts have a door into the next room.
+void appendRoomWalls(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, Building& b,
+                     MeshBuilder& lod0) {
+    const InteriorRecipe& ir = ctx.recipe.interiors;
+    const PolygonFrame& f = ctx.frame;
+    const FloorLayout& L = ctx.layout;
+    const double uOrigin = glm::dot(f.origin, f.u), vOrigin = glm::dot(f.origin, f.v);
+    const bool enfilade = L.kind == LayoutKind::Enfilade;
+    for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+        const Piece& piece = pieces[pi];
+        const int roomId = storey.firstRoom + static_cast<int>(pi);
+        if (piece.kind == RoomKind::Corridor) continue;
+        if (!enfilade) {
+            // A room with no wall on the corridor gets no cut either.
+            const double uLine = piece.side == 0 ? L.corridor0 : L.corridor1;
+            const auto range = chord(piece.polygon, f.u, uLine + uOrigin, f.v);
             if (!range) continue;
-            const double a = range->first - uOrigin, c = range->second - uOrigin;
+            const double a = range->first - vOrigin, c = range->second - vOrigin;
             if (c - a < 0.3) continue;
-            const bool enfilade = L.kind == LayoutKind::Enfilade;
-            // Cut walls run from low u to high u; an enfilade cut has a door into the next room.
-            const glm::dvec2 pa = linePoint(a, piece.v1), pc = linePoint(c, piece.v1);
-            const bool door = interiorWall(pa, pc, enfilade ? std::optional<double>(0.5 * (c - a)) : std::nullopt);
-            if (enfilade && door && pi + 1 < pieces.size())
-                b.doors.push_back({roomId, roomId + 1, false, linePoint(0.5 * (a + c), piece.v1)});
+            const double doorAt = piece.kind == RoomKind::Stairs
+                                      ? std::min(c - a - ir.doorWidth, ir.doorWidth / 2 + 0.3)
+                                      : 0.5 * (c - a);
+            if (appendInteriorWall(lod0, ir, storey, f.toPlan(uLine, a), f.toPlan(uLine, c), doorAt))
+                b.doors.push_back({roomId, storey.firstRoom, false, f.toPlan(uLine, a + doorAt)});
         }
-        // Stairs: from this floor's slab up to the next one's.
-        if (floor + 1 < b.floors && L.hasStairs) {
-            for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
-                const Piece& piece = pieces[pi];
-                if (piece.kind != RoomKind::Stairs) continue;
-                const StairFlight flight = stairFlight(ctx, floor);
-                double uSide = L.corridor1 + ir.wallThickness / 2 + 0.05;
-                if (L.kind == LayoutKind::Enfilade) {
-                    uSide = INFINITY;
-                    for (glm::dvec2 p : piece.polygon) uSide = std::min(uSide, f.toFrame(p).x + 0.1);
-                }
-                appendStairs(lod0, linePoint(uSide + kStairWidth, flight.footV), f.v, kStairWidth, slabTop,
-                             ctx.floorY[floor + 1] + ir.slabThickness, flight.tread);
-            }
-        }
+        if (std::isinf(piece.v1)) continue;
+        const auto range = chord(piece.polygon, f.v, piece.v1 + vOrigin, f.u);
+        if (!range) continue;
+        const double a = range->first - uOrigin, c = range->second - uOrigin;
+        if (c - a < 0.3) continue;
+        // Cut walls run from low u to high u.
+        const bool door = appendInteriorWall(lod0, ir, storey, f.toPlan(a, piece.v1), f.toPlan(c, piece.v1),
+                                             enfilade ? std::optional<double>(0.5 * (c - a)) : std::nullopt);
+        if (enfilade && door && pi + 1 < pieces.size())
+            b.doors.push_back({roomId, roomId + 1, false, f.toPlan(0.5 * (a + c), piece.v1)});
     }
+}
 
-    // LOD1: the facade shell of the section, one closed prism. Every storey uses the union of
-    // all storeys' opening edges on its wall as columns, and every wall of a storey uses the rows
-    // of all that storey's openings, so storeys and corners meet vertex to vertex.
-    std::vector<std::vector<double>> storeyLevels;
-    for (int storey = 0; storey < sec.floorCount; ++storey) {
-        std::vector<std::vector<Opening>> all;
-        for (std::size_t e = 0; e < n; ++e) all.push_back(lod1PerStorey[e][static_cast<std::size_t>(storey)].second);
-        const int floor = sec.firstFloor + storey;
-        storeyLevels.push_back(levelsOf(ctx.floorY[floor], ctx.floorY[floor + 1], all));
+// The flight from this storey's slab up to the next one's, in the stairs room.
+void appendFlights(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, MeshBuilder& lod0) {
+    const InteriorRecipe& ir = ctx.recipe.interiors;
+    const PolygonFrame& f = ctx.frame;
+    const FloorLayout& L = ctx.layout;
+    for (const Piece& piece : pieces) {
+        if (piece.kind != RoomKind::Stairs) continue;
+        const StairFlight flight = stairFlight(ctx, storey.floor);
+        double uSide = L.corridor1 + ir.wallThickness / 2 + 0.05;
+        if (L.kind == LayoutKind::Enfilade) {
+            uSide = INFINITY;
+            for (glm::dvec2 p : piece.polygon) uSide = std::min(uSide, f.toFrame(p).x + 0.1);
+        }
+        appendStairs(lod0, f.toPlan(uSide + kStairWidth, flight.footV), f.v, kStairWidth, storey.slabTop,
+                     ctx.floorY[storey.floor + 1] + ir.slabThickness, flight.tread);
     }
-    std::vector<std::vector<double>> edgeColumns(n);  // opening edges along each wall, sorted
-    for (std::size_t e = 0; e < n; ++e) {
-        std::vector<double>& cols = edgeColumns[e];
-        for (const auto& [floor, ops] : lod1PerStorey[e])
-            for (const Opening& op : ops) cols.insert(cols.end(), {op.s0, op.s1});
-        std::sort(cols.begin(), cols.end());
-        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+}
+
+// One storey of a section: its rooms, exterior openings and wall, the floor band under it
+// (none on a section's first storey: the ground, or the terrace below a tower) and its
+// interiors. Returns the openings of each exterior wall, for the LOD1 shell.
+std::vector<std::vector<Opening>> buildStorey(const BuildContext& ctx, const Section& sec, const SectionPlan& plan,
+                                              const BuildingStyle& style, int floor, Building& b,
+                                              MeshBuilder& lod0) {
+    const double y0 = ctx.floorY[floor];
+    const Storey storey{floor, y0, ctx.floorY[floor + 1], y0 + ctx.recipe.interiors.slabThickness,
+                        static_cast<int>(b.rooms.size())};
+    for (const Piece& p : plan.pieces) b.rooms.push_back({static_cast<int>(b.rooms.size()), floor, p.kind, p.polygon});
+    b.roomsPerFloor.push_back(static_cast<int>(plan.pieces.size()));
+
+    StoreyOpenings openings = placeOpenings(ctx, sec, plan, style, storey);
+    b.windows.insert(b.windows.end(), openings.windows.begin(), openings.windows.end());
+    b.doors.insert(b.doors.end(), openings.doors.begin(), openings.doors.end());
+    for (const Balcony& balcony : openings.balconies)
+        appendBalcony(lod0, balcony, balconyDepthOf(ctx.recipe), storey.slabTop);
+    appendExteriorRing(ctx, sec, plan, style, storey, openings.walls, lod0);
+    const double band = ctx.recipe.buildings.trimDepth;
+    if (floor > sec.firstFloor) appendBand(lod0, sec.footprint, band, y0 - kBandHeight / 2, y0 + kBandHeight / 2);
+
+    if (ctx.recipe.interiors.enabled) {
+        appendFloorSlabs(ctx, storey, plan.pieces, lod0);
+        appendRoomWalls(ctx, storey, plan.pieces, b, lod0);
+        if (floor + 1 < b.floors && ctx.layout.hasStairs) appendFlights(ctx, storey, plan.pieces, lod0);
     }
-    for (std::size_t e = 0; e < n; ++e) {
-        const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % n];
-        const glm::dvec2 dir = glm::normalize(c - a);
-        std::vector<double> cols{0.0};
-        cols.insert(cols.end(), edgeColumns[e].begin(), edgeColumns[e].end());
-        cols.push_back(glm::distance(a, c));
-        auto point = [&](std::size_t k) { return k == 0 ? a : k + 1 == cols.size() ? c : a + dir * cols[k]; };
-        const glm::dvec3 out = MeshBuilder::outward(dir);
-        const MeshBuilder::Uv uv{MeshBuilder::Uv::Wall, dir, run[e] - glm::dot(a, dir)};
-        for (std::size_t storey = 0; storey < lod1PerStorey[e].size(); ++storey) {
-            const auto& [floor, ops] = lod1PerStorey[e][storey];
-            const std::vector<double>& levels = storeyLevels[storey];
-            const std::uint8_t wall = floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
-            for (std::size_t k = 0; k + 1 < cols.size(); ++k) {
-                const double sm = 0.5 * (cols[k] + cols[k + 1]);
-                const Opening* hit = nullptr;
-                for (const Opening& op : ops)
-                    if (sm > op.s0 && sm < op.s1) hit = &op;
-                for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
-                    const double za = levels[r], zb = levels[r + 1];
-                    const bool inside = hit && za >= hit->z0 && zb <= hit->z1;
-                    const MeshBuilder::Glass* glass = inside && hit->glass ? &*hit->glass : nullptr;
-                    lod1.quad({point(k), za}, {point(k + 1), za}, {point(k + 1), zb}, {point(k), zb}, out,
-                              inside ? std::uint8_t{glass ? kGlass : kWood} : wall, uv, glass);
-                }
+    return std::move(openings.walls);
+}
+
+// One wall of the LOD1 shell, storey by storey: a quad per column and row, glass or a door
+// leaf where an opening is. `columns`: the opening edges of every storey on this wall.
+void appendShellWall(const Section& sec, const SectionPlan& plan, const BuildingStyle& style, std::size_t e,
+                     std::span<const double> columns, std::span<const std::vector<std::vector<Opening>>> storeys,
+                     std::span<const std::vector<double>> storeyLevels, MeshBuilder& lod1) {
+    const glm::dvec2 a = sec.footprint[e], c = sec.footprint[(e + 1) % sec.footprint.size()];
+    const glm::dvec2 dir = glm::normalize(c - a);
+    std::vector<double> cols{0.0};
+    cols.insert(cols.end(), columns.begin(), columns.end());
+    cols.push_back(glm::distance(a, c));
+    auto point = [&](std::size_t k) { return k == 0 ? a : k + 1 == cols.size() ? c : a + dir * cols[k]; };
+    const glm::dvec3 out = MeshBuilder::outward(dir);
+    const MeshBuilder::Uv uv{MeshBuilder::Uv::Wall, dir, plan.run[e] - glm::dot(a, dir)};
+    for (std::size_t storey = 0; storey < storeys.size(); ++storey) {
+        const int floor = sec.firstFloor + static_cast<int>(storey);
+        const std::vector<Opening>& ops = storeys[storey][e];
+        const std::vector<double>& levels = storeyLevels[storey];
+        const std::uint8_t wall = floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
+        for (std::size_t k = 0; k + 1 < cols.size(); ++k) {
+            const double sm = 0.5 * (cols[k] + cols[k + 1]);
+            const Opening* hit = nullptr;
+            for (const Opening& op : ops)
+                if (sm > op.s0 && sm < op.s1) hit = &op;
+            for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
+                const double za = levels[r], zb = levels[r + 1];
+                const bool inside = hit && za >= hit->z0 && zb <= hit->z1;
+                const MeshBuilder::Glass* glass = inside && hit->glass ? &*hit->glass : nullptr;
+                lod1.quad({point(k), za}, {point(k + 1), za}, {point(k + 1), zb}, {point(k), zb}, out,
+                          inside ? std::uint8_t{glass ? kGlass : kWood} : wall, uv, glass);
             }
         }
     }
-    // Bottom and top caps of the LOD1 prism, with every column point on their boundary.
+}
+
+// The bottom and top caps of the LOD1 shell, with every column point on their boundary.
+void appendShellCaps(const Section& sec, std::span<const std::vector<double>> edgeColumns, MeshBuilder& lod1) {
+    const std::size_t n = sec.footprint.size();
     for (double y : {sec.y0, sec.y1}) {
         std::vector<glm::dvec2> ring;
         for (std::size_t e = 0; e < n; ++e) {
@@ -783,154 +805,179 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
         const glm::dvec2 mid = centroid(sec.footprint);
         for (std::size_t i = 0; i < ring.size(); ++i) {
             const glm::dvec3 tri[3] = {{ring[i], y}, {ring[(i + 1) % ring.size()], y}, {mid, y}};
-            lod1.polygon(tri, y == sec.y0 ? -MeshBuilder::up() : MeshBuilder::up(), y == sec.y0 ? kConcrete : kRoofFlat, {});
+            const bool bottom = y == sec.y0;
+            lod1.polygon(tri, bottom ? -MeshBuilder::up() : MeshBuilder::up(), bottom ? kConcrete : kRoofFlat, {});
         }
     }
-    if (!isTop) appendBand(lod0, sec.footprint, br.trimDepth, sec.y1 - kBandHeight, sec.y1);
+}
+
+// LOD1: the facade shell of a section, one closed prism. Every storey uses the union of all
+// storeys' opening edges on its wall as columns, and every wall of a storey uses the rows of
+// all that storey's openings, so storeys and corners meet vertex to vertex.
+void appendShell(const BuildContext& ctx, const Section& sec, const SectionPlan& plan, const BuildingStyle& style,
+                 std::span<const std::vector<std::vector<Opening>>> storeys, MeshBuilder& lod1) {
+    const std::size_t n = sec.footprint.size();
+    std::vector<std::vector<double>> storeyLevels;
+    for (std::size_t storey = 0; storey < storeys.size(); ++storey) {
+        const int floor = sec.firstFloor + static_cast<int>(storey);
+        storeyLevels.push_back(levelsOf(ctx.floorY[floor], ctx.floorY[floor + 1], storeys[storey]));
+    }
+    std::vector<std::vector<double>> edgeColumns(n);  // opening edges along each wall, sorted
+    for (std::size_t e = 0; e < n; ++e) {
+        std::vector<double>& cols = edgeColumns[e];
+        for (const auto& walls : storeys)
+            for (const Opening& op : walls[e]) cols.insert(cols.end(), {op.s0, op.s1});
+        std::sort(cols.begin(), cols.end());
+        cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    }
+    for (std::size_t e = 0; e < n; ++e)
+        appendShellWall(sec, plan, style, e, edgeColumns[e], storeys, storeyLevels, lod1);
+    appendShellCaps(sec, edgeColumns, lod1);
+}
+
+// Everything of one section's storeys: exterior walls with openings, interiors, the LOD1
+// shell, and a cornice on top of a section that is not the building's top.
+void buildSection(const BuildContext& ctx, const Section& sec, const BuildingStyle& style, bool isTop, Building& b,
+                  MeshBuilder& lod0, MeshBuilder& lod1) {
+    SectionPlan plan;
+    plan.pieces = layoutPieces(ctx, sec);
+    // The front: of the edges along the frame's u, the one nearest the street.
+    plan.front = bestEdge(sec.footprint, [&](glm::dvec2 p, glm::dvec2 q, glm::dvec2 dir) {
+        return glm::dot(dir, ctx.frame.u) < 0.9 ? -INFINITY : -glm::dot(0.5 * (p + q) - ctx.frame.origin, ctx.frame.v);
+    });
+    plan.run = perimeterRun(sec.footprint);
+    std::vector<std::vector<std::vector<Opening>>> storeys;  // per storey, per wall
+    for (int floor = sec.firstFloor; floor < sec.firstFloor + sec.floorCount; ++floor)
+        storeys.push_back(buildStorey(ctx, sec, plan, style, floor, b, lod0));
+    appendShell(ctx, sec, plan, style, storeys, lod1);
+    if (!isTop) appendBand(lod0, sec.footprint, ctx.recipe.buildings.trimDepth, sec.y1 - kBandHeight, sec.y1);
 }
 
 std::uint8_t pick(Rng& rng, std::initializer_list<std::uint8_t> options) {
     return *(options.begin() + static_cast<std::ptrdiff_t>(rng.below(options.size())));
 }
 
-}  // namespace
+// The outer face (the footprint) and the inner face of a section's exterior wall.
+struct WallOutline {
+    Polygon2 footprint, inner;
+};
 
-Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
-    const BuildingRecipe& br = recipe.buildings;
-    const InteriorRecipe& ir = recipe.interiors;
-    Building b;
-    b.id = b.lot = lot.id;
-    Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
-    const double setback = recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter;
-    Polygon2 footprint = insetPolygon(lot.polygon, setback);
-    footprint = dropShortEdges(simplifyPolygon(footprint, 0.01), kMinEdge);
-    if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint)) return b;
-    const Polygon2 inner = mitreOffset(footprint, br.wallThickness);
-    if (!isConvex(inner) || signedArea(inner) < 4.0) return b;
+// The base's wall on `lot`, set back by `setback`; nullopt when the lot is too small or too
+// thin for a building.
+std::optional<WallOutline> baseOutline(const Lot& lot, const CityRecipe& recipe, double setback) {
+    const Polygon2 footprint = dropShortEdges(simplifyPolygon(insetPolygon(lot.polygon, setback), 0.01), kMinEdge);
+    if (footprint.size() < 3 || signedArea(footprint) < recipe.lots.minArea * 0.25 || !isConvex(footprint))
+        return std::nullopt;
+    const Polygon2 inner = mitreOffset(footprint, recipe.buildings.wallThickness);
+    if (!isConvex(inner) || signedArea(inner) < 4.0) return std::nullopt;
     // No slivers: a building is at least kMinInnerWidth wide inside its walls both ways.
     const PolygonFrame extent = edgeFrame(inner, 0);
-    if (extent.uMax - extent.uMin < kMinInnerWidth || extent.vMax - extent.vMin < kMinInnerWidth) return b;
+    if (extent.uMax - extent.uMin < kMinInnerWidth || extent.vMax - extent.vMin < kMinInnerWidth) return std::nullopt;
+    return WallOutline{footprint, inner};
+}
 
-    // The footprint edge facing the lot's front street: parallel to it and nearest.
-    const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
-    const glm::dvec2 fb = lot.polygon[(static_cast<std::size_t>(lot.frontEdge) + 1) % lot.polygon.size()];
-    const glm::dvec2 frontDir = glm::normalize(fb - fa);
-    std::size_t frontEdge = 0;
-    double best = -INFINITY;
-    for (std::size_t i = 0; i < footprint.size(); ++i) {
-        const glm::dvec2 d = glm::normalize(footprint[(i + 1) % footprint.size()] - footprint[i]);
-        const double score = glm::dot(d, frontDir) * 100.0 - distanceToSegment(footprint[i], fa, fb);
-        if (score > best) best = score, frontEdge = i;
-    }
-
-    BuildContext ctx{recipe, edgeFrame(footprint, frontEdge), {}, {}};
+// A building's random choices, drawn from its generator in this order.
+struct BuildingDraw {
     BuildingStyle style;
-    style.wall = pick(rng, {kBrick, kConcrete, kPlaster});
-    style.shop = rng.uniform() < br.shopChance;
-    style.balconies = rng.uniform() < br.balconyChance;
+    int floors = 0;       // of the base
+    int towerFloors = 0;  // 0: no tower
+    RoofType roof = RoofType::Flat;
+};
+
+BuildingDraw drawBuilding(const CityRecipe& recipe, Rng& rng) {
+    const BuildingRecipe& br = recipe.buildings;
+    BuildingDraw draw;
+    draw.style.wall = pick(rng, {kBrick, kConcrete, kPlaster});
+    draw.style.shop = rng.uniform() < br.shopChance;
+    draw.style.balconies = rng.uniform() < br.balconyChance;
     // Floors: skewed towards the low end.
     const double x = rng.uniform();
-    int floors = br.minFloors + static_cast<int>(std::floor(x * x * (br.maxFloors - br.minFloors + 1)));
-    floors = std::clamp(floors, br.minFloors, br.maxFloors);
-    int towerFloors = 0;
-    const bool wantTower = rng.uniform() < br.towerChance && br.towerExtraFloors > 0;
-    if (wantTower) towerFloors = rng.range(std::min(2, br.towerExtraFloors), br.towerExtraFloors);
-    // Roof type by weight; tall buildings get flat roofs.
+    const int floors = br.minFloors + static_cast<int>(std::floor(x * x * (br.maxFloors - br.minFloors + 1)));
+    draw.floors = std::clamp(floors, br.minFloors, br.maxFloors);
+    if (rng.uniform() < br.towerChance && br.towerExtraFloors > 0)
+        draw.towerFloors = rng.range(std::min(2, br.towerExtraFloors), br.towerExtraFloors);
+    // Roof type by weight.
     const double weights[4] = {recipe.roofs.flat, recipe.roofs.hip, recipe.roofs.gable, recipe.roofs.shed};
     double pickW = rng.uniform() * (weights[0] + weights[1] + weights[2] + weights[3]);
     int roofIndex = 0;
     while (roofIndex < 3 && pickW >= weights[roofIndex]) pickW -= weights[roofIndex++];
+    draw.roof = static_cast<RoofType>(roofIndex);
+    return draw;
+}
 
-    std::optional<FloorLayout> layout = planLayout(ctx, inner, floors + towerFloors, rng);
-    // Too shallow behind the street for a flight of stairs: lay the floors out from a side
-    // edge instead (the entrance then opens on that side); failing that, one storey.
-    for (std::size_t side : {(frontEdge + 1) % footprint.size(), (frontEdge + footprint.size() - 1) % footprint.size()}) {
+// Lays the floors out from the street edge. Too shallow behind it for a flight of stairs:
+// from a side edge instead (the entrance then opens on that side); failing that, as one
+// storey without a tower. Sets ctx.frame and ctx.layout.
+void chooseLayout(BuildContext& ctx, const WallOutline& base, std::size_t frontEdge, BuildingDraw& draw, Rng& rng) {
+    const std::size_t n = base.footprint.size();
+    std::optional<FloorLayout> layout = planLayout(ctx, base.inner, draw.floors + draw.towerFloors, rng);
+    for (std::size_t side : {(frontEdge + 1) % n, (frontEdge + n - 1) % n}) {
         if (layout) break;
-        ctx.frame = edgeFrame(footprint, side);
-        layout = planLayout(ctx, inner, floors + towerFloors, rng);
+        ctx.frame = edgeFrame(base.footprint, side);
+        layout = planLayout(ctx, base.inner, draw.floors + draw.towerFloors, rng);
     }
     if (!layout) {
-        floors = 1, towerFloors = 0;
-        ctx.frame = edgeFrame(footprint, frontEdge);
-        layout = planLayout(ctx, inner, 1, rng);
+        draw.floors = 1, draw.towerFloors = 0;
+        ctx.frame = edgeFrame(base.footprint, frontEdge);
+        layout = planLayout(ctx, base.inner, 1, rng);
     }
     ctx.layout = *layout;
-    // A tower needs a corridor with rooms on both sides whose stairs survive the setback.
-    Polygon2 towerFootprint, towerInner;
-    if (towerFloors > 0) {
-        towerFootprint = dropShortEdges(simplifyPolygon(insetPolygon(footprint, br.towerSetback), 0.01), kMinEdge);
-        bool ok = ctx.layout.kind == LayoutKind::DoubleLoaded && ctx.layout.hasStairs && towerFootprint.size() >= 3 &&
-                  isConvex(towerFootprint);
-        if (ok) {
-            towerInner = mitreOffset(towerFootprint, br.wallThickness);
-            ok = isConvex(towerInner);
-        }
-        if (ok) {
-            const PolygonFrame& f = ctx.frame;
-            const auto range = chord(towerInner, f.u, ctx.layout.corridor1 + glm::dot(f.origin, f.u), f.v);
-            const double vOrigin = glm::dot(f.origin, f.v);
-            ok = range && range->first - vOrigin < ctx.layout.stairs0 - 0.5 && range->second - vOrigin > ctx.layout.stairs1 + 0.5 &&
-                 !std::isinf(ctx.layout.stairs0) && !std::isinf(ctx.layout.stairs1);
-            const auto low = chord(towerInner, f.u, ctx.layout.corridor0 + glm::dot(f.origin, f.u), f.v);
-            ok = ok && low && low->second - low->first > 2.0;
-        }
-        if (!ok) towerFloors = 0, towerFootprint.clear(), towerInner.clear();
-    }
-    b.floors = floors + towerFloors;
-    b.baseFloors = floors;
-    b.footprint = footprint;
-    b.towerFootprint = towerFootprint;
-    b.wallMaterial = style.wall;
-    ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, 0.0);
-    for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(br, fl);
+}
 
-    Mesh& m0 = b.lod0;
-    Mesh& m1 = b.lod1;
-    MeshBuilder lod0(m0), lod1(m1);
-    Section base{footprint, inner, 0, floors, 0.0, ctx.floorY[floors]};
-    buildSection(ctx, base, style, towerFloors == 0, b, lod0, lod1);
-    if (towerFloors > 0) {
-        Section tower{towerFootprint, towerInner, floors, towerFloors, ctx.floorY[floors], ctx.floorY[b.floors]};
-        // The base's roof: a flat terrace under the tower.
-        RoofSettings terrace;
-        terrace.type = RoofType::Flat;
-        terrace.parapetHeight = recipe.roofs.parapetHeight;
-        terrace.parapetWidth = recipe.roofs.parapetWidth;
-        terrace.slabThickness = ir.slabThickness;
-        terrace.wallMaterial = style.wall;
-        const Roof terraceRoof = buildRoof(footprint, ctx.floorY[floors], terrace);
-        appendMesh(m0, terraceRoof.mesh);
-        appendMesh(m1, terraceRoof.mesh);
-        buildSection(ctx, tower, style, true, b, lod0, lod1);
-    }
-    // The roof over the top section.
-    const Polygon2& top = towerFloors > 0 ? towerFootprint : footprint;
+// The tower's wall, set back from the base's; nullopt when the base's floors cannot carry
+// one: a tower needs a corridor with rooms on both sides whose stairs survive the setback.
+std::optional<WallOutline> towerOutline(const BuildContext& ctx, std::span<const glm::dvec2> footprint) {
+    const BuildingRecipe& br = ctx.recipe.buildings;
+    const FloorLayout& L = ctx.layout;
+    const Polygon2 tower = dropShortEdges(simplifyPolygon(insetPolygon(footprint, br.towerSetback), 0.01), kMinEdge);
+    if (L.kind != LayoutKind::DoubleLoaded || !L.hasStairs || tower.size() < 3 || !isConvex(tower)) return std::nullopt;
+    const Polygon2 inner = mitreOffset(tower, br.wallThickness);
+    if (!isConvex(inner)) return std::nullopt;
+    const PolygonFrame& f = ctx.frame;
+    const double uOrigin = glm::dot(f.origin, f.u), vOrigin = glm::dot(f.origin, f.v);
+    const auto high = chord(inner, f.u, L.corridor1 + uOrigin, f.v);
+    const bool stairsFit = high && high->first - vOrigin < L.stairs0 - 0.5 &&
+                           high->second - vOrigin > L.stairs1 + 0.5 && !std::isinf(L.stairs0) && !std::isinf(L.stairs1);
+    const auto low = chord(inner, f.u, L.corridor0 + uOrigin, f.v);
+    if (!stairsFit || !low || !(low->second - low->first > 2.0)) return std::nullopt;
+    return WallOutline{tower, inner};
+}
+
+// Roof settings from the recipe, in the building's wall material.
+RoofSettings roofSettings(const CityRecipe& recipe, RoofType type, const BuildingStyle& style) {
     RoofSettings rs;
-    rs.type = static_cast<RoofType>(roofIndex);
-    if (b.floors > recipe.roofs.maxPitchedFloors || towerFloors > 0) rs.type = RoofType::Flat;
-    rs.pitch = recipe.roofs.pitch;
+    rs.type = type;
     rs.parapetHeight = recipe.roofs.parapetHeight;
     rs.parapetWidth = recipe.roofs.parapetWidth;
-    rs.slabThickness = ir.slabThickness;
+    rs.slabThickness = recipe.interiors.slabThickness;
     rs.wallMaterial = style.wall;
-    // The ridge of a gable runs along the street; a shed rises towards it. (The street edge,
-    // not the layout's frame: floors may be laid out from a side edge.)
-    const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
-    for (std::size_t i = 0; i < top.size(); ++i) {
-        const glm::dvec2 d = glm::normalize(top[(i + 1) % top.size()] - top[i]);
-        if (glm::dot(d, streetDir) > 0.99) { rs.frontEdge = i; break; }
-    }
-    // A shed rises over the whole depth: keep it a lean-to, not a wedge.
+    return rs;
+}
+
+// The roof over the top section `top`. A gable's ridge runs along the street and a shed rises
+// towards it (the street's direction, not the layout's frame: floors may be laid out from a
+// side edge); a shed rises over the whole depth, so its pitch keeps it a lean-to, not a wedge.
+RoofSettings topRoofSettings(const CityRecipe& recipe, const BuildingStyle& style, RoofType type,
+                             std::span<const glm::dvec2> top, glm::dvec2 streetDir) {
+    RoofSettings rs = roofSettings(recipe, type, style);
+    rs.pitch = recipe.roofs.pitch;
+    rs.frontEdge = bestEdge(top, [&](glm::dvec2, glm::dvec2, glm::dvec2 dir) {
+        return glm::dot(dir, streetDir) > 0.99 ? 0.0 : -INFINITY;  // the first edge along the street
+    });
     if (rs.type == RoofType::Shed) {
         const PolygonFrame depth = edgeFrame(top, rs.frontEdge);
         rs.pitch = std::min(rs.pitch, kMaxShedRise / std::max(1.0, depth.vMax - depth.vMin));
     }
-    const Roof roof = buildRoof(top, ctx.floorY[b.floors], rs);
-    appendMesh(m0, roof.mesh);
-    appendMesh(m1, roof.mesh);
-    b.roof = rs.type;
-    b.height = ctx.floorY[b.floors] + roof.height;
-    // Stairs join the stairs rooms of consecutive floors.
+    return rs;
+}
+
+void addRoof(Building& b, const Roof& roof) {
+    appendMesh(b.lod0, roof.mesh);
+    appendMesh(b.lod1, roof.mesh);
+}
+
+// Stairs join the stairs rooms of consecutive floors.
+void joinStairs(Building& b) {
     for (std::size_t i = 0; i < b.rooms.size(); ++i) {
         if (b.rooms[i].kind != RoomKind::Stairs) continue;
         for (std::size_t j = i + 1; j < b.rooms.size(); ++j)
@@ -939,6 +986,60 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
                 break;
             }
     }
+}
+
+}  // namespace
+
+Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
+    Building b;
+    b.id = b.lot = lot.id;
+    Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
+    const double setback = recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter;
+    const std::optional<WallOutline> base = baseOutline(lot, recipe, setback);
+    if (!base) return b;
+    const Polygon2& footprint = base->footprint;
+
+    // The footprint edge facing the lot's front street: parallel to it and nearest.
+    const glm::dvec2 fa = lot.polygon[static_cast<std::size_t>(lot.frontEdge)];
+    const glm::dvec2 fb = lot.polygon[(static_cast<std::size_t>(lot.frontEdge) + 1) % lot.polygon.size()];
+    const glm::dvec2 frontDir = glm::normalize(fb - fa);
+    const std::size_t frontEdge = bestEdge(footprint, [&](glm::dvec2 a, glm::dvec2, glm::dvec2 dir) {
+        return glm::dot(dir, frontDir) * 100.0 - distanceToSegment(a, fa, fb);
+    });
+
+    BuildContext ctx{recipe, edgeFrame(footprint, frontEdge), {}, {}};
+    BuildingDraw draw = drawBuilding(recipe, rng);
+    chooseLayout(ctx, *base, frontEdge, draw, rng);
+    const std::optional<WallOutline> tower = draw.towerFloors > 0 ? towerOutline(ctx, footprint) : std::nullopt;
+    const int floors = draw.floors, towerFloors = tower ? draw.towerFloors : 0;
+    b.floors = floors + towerFloors;
+    b.baseFloors = floors;
+    b.footprint = footprint;
+    if (tower) b.towerFootprint = tower->footprint;
+    b.wallMaterial = draw.style.wall;
+    ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, 0.0);
+    for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(recipe.buildings, fl);
+
+    MeshBuilder lod0(b.lod0), lod1(b.lod1);
+    const Section baseSection{footprint, base->inner, 0, floors, 0.0, ctx.floorY[floors]};
+    buildSection(ctx, baseSection, draw.style, !tower, b, lod0, lod1);
+    if (tower) {
+        // The base's roof: a flat terrace under the tower.
+        addRoof(b, buildRoof(footprint, ctx.floorY[floors], roofSettings(recipe, RoofType::Flat, draw.style)));
+        const Section towerSection{tower->footprint, tower->inner, floors, towerFloors, ctx.floorY[floors],
+                                   ctx.floorY[b.floors]};
+        buildSection(ctx, towerSection, draw.style, true, b, lod0, lod1);
+    }
+    // Tall buildings and towers get flat roofs.
+    const Polygon2& top = tower ? tower->footprint : footprint;
+    const bool flat = b.floors > recipe.roofs.maxPitchedFloors || tower;
+    const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
+    const RoofSettings rs = topRoofSettings(recipe, draw.style, flat ? RoofType::Flat : draw.roof, top, streetDir);
+    const Roof roof = buildRoof(top, ctx.floorY[b.floors], rs);
+    addRoof(b, roof);
+    b.roof = rs.type;
+    b.height = ctx.floorY[b.floors] + roof.height;
+    joinStairs(b);
     return b;
 }
 

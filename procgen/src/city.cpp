@@ -1,6 +1,6 @@
 // The district: plan, ground, buildings (in parallel, one sub-seed each), report and scene.
 #include <dawnforge/procgen/city.hpp>
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 #include "mesh_builder.hpp"
 
 #include <dawnforge/core/error.hpp>
@@ -106,17 +106,17 @@ glm::ivec2 tileOf(const CitySettings& s, glm::dvec2 p) {
 
 City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     auto report = [&](double f) {
-        if (progress && !progress(f)) throw Cancelled();
+        if (!progress(f)) throw Cancelled();
     };
     if (!(std::isfinite(settings.size.x) && std::isfinite(settings.size.y) && settings.size.x > 0 && settings.size.y > 0))
-        throw InputError(format("--size: the city must be larger than 0 x 0 m (got {} x {})", settings.size.x, settings.size.y));
+        throw InputError(format("the city size must be larger than 0 x 0 m (got {} x {})", settings.size.x, settings.size.y));
     if (settings.size.x > 20000 || settings.size.y > 20000)
-        throw InputError(format("--size: at most 20000 x 20000 m (got {} x {})", settings.size.x, settings.size.y));
+        throw InputError(format("the city size is at most 20000 x 20000 m (got {} x {})", settings.size.x, settings.size.y));
     if (!(std::isfinite(settings.tileSize) && settings.tileSize >= 10.0))
-        throw InputError(format("--tile-size: must be at least 10 m (got {})", settings.tileSize));
+        throw InputError(format("the tile size must be at least 10 m (got {})", settings.tileSize));
     const glm::ivec2 count = tileCount(settings);
     if (settings.tile && (settings.tile->x < 0 || settings.tile->y < 0 || settings.tile->x >= count.x || settings.tile->y >= count.y))
-        throw InputError(format("--tile {},{}: outside the city, which has {} x {} tiles of {} m (0,0 to {},{})",
+        throw InputError(format("tile {},{} is outside the city, which has {} x {} tiles of {} m (0,0 to {},{})",
                                 settings.tile->x, settings.tile->y, count.x, count.y, settings.tileSize, count.x - 1,
                                 count.y - 1));
     validateRecipe(settings.recipe, "recipe");
@@ -124,7 +124,7 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     City city;
     city.settings = settings;
     city.plan = planCity(settings.recipe, settings.seed, settings.size,
-                         [&](double f) { return !progress || progress(0.1 * f); });
+                         [&](double f) { return progress(0.1 * f); });
     report(0.1);
 
     for (int j = 0; j < count.y; ++j)
@@ -150,7 +150,7 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     tbb::parallel_for(std::size_t(0), lots.size(), [&](std::size_t k) {
         built[k] = buildBuilding(*lots[k], settings.recipe, settings.seed);
         const std::size_t finished = ++done;
-        if (progress && finished % 16 == 0) {
+        if (finished % 16 == 0) {
             std::lock_guard lock(progressMutex);
             if (!progress(0.1 + 0.8 * double(finished) / double(lots.size()))) cancelled = true;
         }

@@ -1,5 +1,4 @@
 #include <dawnforge/procgen/geometry2d.hpp>
-#include <dawnforge/procgen/materials.hpp>
 
 #include <dawnforge/core/error.hpp>
 
@@ -7,18 +6,6 @@
 #include <cmath>
 
 namespace dawnforge::procgen {
-
-const char* materialName(std::uint8_t id) {
-    static const char* const kNames[16] = {
-        "asphalt", "paving", "brick", "concrete", "plaster", "glass", "metal", "trim",
-        "roof_tiles", "roof_flat", "wood", "interior_wall", "floor", "ground", "sand", "rubble"};
-    DAWNFORGE_ASSERT(id < 16, "material id above 15");
-    return kNames[id];
-}
-
-namespace {
-double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-}  // namespace
 
 double signedArea(std::span<const glm::dvec2> polygon) {
     double sum = 0.0;
@@ -62,20 +49,37 @@ bool containsPoint(std::span<const glm::dvec2> polygon, glm::dvec2 p) {
 }
 
 bool isConvex(std::span<const glm::dvec2> polygon) {
+    return polygon.size() >= 3 && reflexVertex(polygon) == polygon.size();
+}
+
+std::size_t reflexVertex(std::span<const glm::dvec2> polygon) {
     const std::size_t n = polygon.size();
-    if (n < 3) return false;
     for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % n], c = polygon[(i + 2) % n];
-        if (cross(b - a, c - b) < -1e-12 * glm::length(b - a) * glm::length(c - b)) return false;
+        const glm::dvec2 a = polygon[(i + n - 1) % n], b = polygon[i], c = polygon[(i + 1) % n];
+        if (cross(b - a, c - b) < -1e-12 * glm::length(b - a) * glm::length(c - b)) return i;
     }
-    return true;
+    return n;
+}
+
+glm::dvec2 interiorPoint(std::span<const glm::dvec2> polygon) {
+    const std::vector<std::uint32_t> triangles = triangulatePolygon(polygon);
+    glm::dvec2 best = polygon[0];
+    double bestArea = -1.0;
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const glm::dvec2 a = polygon[triangles[t]], b = polygon[triangles[t + 1]], c = polygon[triangles[t + 2]];
+        const double area = cross(b - a, c - a);
+        if (area > bestArea) bestArea = area, best = (a + b + c) / 3.0;
+    }
+    return best;
 }
 
 namespace {
+bool oppositeSigns(double x, double y) { return (x > 0.0 && y < 0.0) || (x < 0.0 && y > 0.0); }
+
 bool segmentsIntersect(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2) {
     const double d1 = cross(q2 - q1, p1 - q1), d2 = cross(q2 - q1, p2 - q1);
     const double d3 = cross(p2 - p1, q1 - p1), d4 = cross(p2 - p1, q2 - p1);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return true;
+    if (oppositeSigns(d1, d2) && oppositeSigns(d3, d4)) return true;
     auto onSegment = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
         return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
                p.y <= std::max(a.y, b.y);
@@ -96,11 +100,20 @@ bool isSimple(std::span<const glm::dvec2> polygon) {
     return true;
 }
 
-double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+bool segmentsCross(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2) {
+    const double d1 = cross(q2 - q1, p1 - q1), d2 = cross(q2 - q1, p2 - q1);
+    const double d3 = cross(p2 - p1, q1 - p1), d4 = cross(p2 - p1, q2 - p1);
+    return oppositeSigns(d1, d2) && oppositeSigns(d3, d4);
+}
+
+glm::dvec2 closestOnSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
     const glm::dvec2 ab = b - a;
     const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::distance(p, a + t * ab);
+    return len2 > 0.0 ? a + ab * std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : a;
+}
+
+double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+    return glm::distance(p, closestOnSegment(p, a, b));
 }
 
 double distanceToBoundary(std::span<const glm::dvec2> polygon, glm::dvec2 p) {
@@ -122,6 +135,77 @@ Polygon2 clipHalfPlane(std::span<const glm::dvec2> convex, glm::dvec2 n, double 
     }
     if (out.size() < 3) out.clear();
     return out;
+}
+
+Polygon2 clipStrip(std::span<const glm::dvec2> convex, glm::dvec2 axis, double lo, double hi) {
+    Polygon2 piece = clipHalfPlane(convex, axis, hi);
+    if (!piece.empty()) piece = clipHalfPlane(piece, -axis, -lo);
+    return piece;
+}
+
+std::optional<std::pair<double, double>> chord(std::span<const glm::dvec2> convex, glm::dvec2 axis, double value,
+                                               glm::dvec2 other) {
+    constexpr double kOnLine = 1e-7;  // vertices this close count as on the line (clipping leaves ~1e-15)
+    double lo = INFINITY, hi = -INFINITY;
+    auto take = [&](glm::dvec2 p) {
+        lo = std::min(lo, glm::dot(p, other));
+        hi = std::max(hi, glm::dot(p, other));
+    };
+    for (std::size_t i = 0, n = convex.size(); i < n; ++i) {
+        const glm::dvec2 a = convex[i], b = convex[(i + 1) % n];
+        const double da = glm::dot(a, axis) - value, db = glm::dot(b, axis) - value;
+        if (std::abs(da) <= kOnLine) take(a);
+        if ((da < -kOnLine && db > kOnLine) || (da > kOnLine && db < -kOnLine)) take(a + (b - a) * (da / (da - db)));
+    }
+    if (!(hi > lo)) return std::nullopt;
+    return std::make_pair(lo, hi);
+}
+
+double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir) {
+    double best = INFINITY;
+    for (std::size_t i = 0, n = convex.size(); i < n; ++i) {
+        const glm::dvec2 a = convex[i], b = convex[(i + 1) % n];
+        const glm::dvec2 e = b - a, outN{e.y, -e.x};
+        const double denom = glm::dot(dir, outN);
+        if (denom <= 1e-12) continue;
+        best = std::min(best, glm::dot(a - p, outN) / denom);
+    }
+    return std::max(0.0, best);
+}
+
+Polygon2 mitreOffset(std::span<const glm::dvec2> convex, double distance) {
+    const std::size_t n = convex.size();
+    Polygon2 out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 p = convex[(i + n - 1) % n], c = convex[i], q = convex[(i + 1) % n];
+        const glm::dvec2 n0 = inwardNormal(p, c), n1 = inwardNormal(c, q);
+        // c + x with dot(x, n0) = dot(x, n1) = distance.
+        const double det = cross(n0, n1);
+        const glm::dvec2 x(distance * n1.y - distance * n0.y, n0.x * distance - n1.x * distance);
+        out[i] = std::abs(det) < 1e-12 ? c + n0 * distance : c + x / det;
+    }
+    return out;
+}
+
+Polygon2 dropShortEdges(Polygon2 convex, double minEdge) {
+    while (convex.size() > 3) {
+        const std::size_t n = convex.size();
+        std::size_t worst = n;
+        double shortest = minEdge;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double length = glm::distance(convex[i], convex[(i + 1) % n]);
+            if (length < shortest) shortest = length, worst = i;
+        }
+        if (worst == n) break;
+        // Remove whichever end of the short edge costs less area.
+        auto cost = [&](std::size_t i) {
+            const glm::dvec2 prev = convex[(i + n - 1) % n];
+            return std::abs(cross(convex[i] - prev, convex[(i + 1) % n] - prev));
+        };
+        const std::size_t a = worst, b = (worst + 1) % n;
+        convex.erase(convex.begin() + static_cast<std::ptrdiff_t>(cost(a) <= cost(b) ? a : b));
+    }
+    return convex;
 }
 
 Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon) {

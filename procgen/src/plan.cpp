@@ -31,22 +31,8 @@ constexpr double kOnLine = 1e-7;            // metres: a vertex this close to a 
 constexpr double kCollinear = 1e-9;         // metres: a vertex this close to its neighbours' chord is dropped
 constexpr double kMaxGridNodes = 4.0e6;     // a larger grid means a size that makes no sense for its spacing
 
-double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-
-bool segmentsCross(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2) {
-    const double d1 = cross(q2 - q1, p1 - q1), d2 = cross(q2 - q1, p2 - q1);
-    const double d3 = cross(p2 - p1, q1 - p1), d4 = cross(p2 - p1, q2 - p1);
-    return ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0));
-}
-
-glm::dvec2 closestOnSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    return len2 > 0.0 ? a + ab * std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : a;
-}
-
 void reportProgress(const ProgressFn& progress, double fraction) {
-    if (progress && !progress(fraction)) throw Cancelled();
+    if (!progress(fraction)) throw Cancelled();
 }
 
 double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
@@ -69,6 +55,17 @@ double valueNoise(std::uint64_t seed, glm::dvec2 p) {
     return a + (b - a) * ty;
 }
 
+// The y of a line running west to east (x ascending) at x: linear between its points, level
+// beyond its ends, -infinity when it is empty (the coast and the promenade without a sea).
+double yAt(std::span<const glm::dvec2> line, double x) {
+    if (line.empty()) return -std::numeric_limits<double>::infinity();
+    if (x <= line.front().x) return line.front().y;
+    if (x >= line.back().x) return line.back().y;
+    const auto it = std::upper_bound(line.begin(), line.end(), x, [](double v, glm::dvec2 p) { return v < p.x; });
+    const glm::dvec2 b = *it, a = *(it - 1);
+    return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
+}
+
 // ---------------------------------------------------------------------------------------
 // The land: the city rectangle north of the promenade's centre line.
 
@@ -76,15 +73,7 @@ struct Land {
     glm::dvec2 size{0.0};
     std::vector<glm::dvec2> promenade;  // centre line, west to east; empty without a sea
 
-    double promenadeY(double x) const {
-        if (promenade.empty()) return -std::numeric_limits<double>::infinity();
-        if (x <= promenade.front().x) return promenade.front().y;
-        if (x >= promenade.back().x) return promenade.back().y;
-        const auto it = std::upper_bound(promenade.begin(), promenade.end(), x,
-                                         [](double v, glm::dvec2 p) { return v < p.x; });
-        const glm::dvec2 b = *it, a = *(it - 1);
-        return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
-    }
+    double promenadeY(double x) const { return yAt(promenade, x); }
     bool contains(glm::dvec2 p) const {
         return p.x > 0.0 && p.x < size.x && p.y > 0.0 && p.y < size.y && p.y > promenadeY(p.x);
     }
@@ -132,7 +121,7 @@ struct StreetGraph {
     std::vector<ArrangementSegment> segments;  // weight: half the street's width
 };
 
-// Appends the land parts of a chain of segments as streets; `chain[k]` empty ends a piece.
+// Appends the land parts of a chain of segments as streets; a segment not `present` ends a piece.
 void addClippedStreets(const Land& land, const std::vector<std::pair<glm::dvec2, glm::dvec2>>& chain,
                        const std::vector<bool>& present, bool major, double width,
                        std::vector<Street>& streets) {
@@ -169,31 +158,34 @@ void addClippedStreets(const Land& land, const std::vector<std::pair<glm::dvec2,
     flush();
 }
 
-StreetGraph buildStreets(const StreetRecipe& r, double promenadeWidth, const Land& land, std::uint64_t seed) {
-    StreetGraph graph;
+// The street grid: lines every minorSpacing through the city's centre, rotated by `angle`,
+// with their nodes bent by value noise; nodes near the city's edge snap onto the ring road.
+struct StreetGrid {
+    int n = 0;  // lines -n..n in each direction
+    std::vector<glm::dvec2> nodes;
+    std::vector<unsigned> ringSides;  // per node, bit k: snapped onto side k of the ring
+    std::size_t index(int i, int j) const {
+        return static_cast<std::size_t>(j + n) * (2 * n + 1) + static_cast<std::size_t>(i + n);
+    }
+};
+
+StreetGrid streetGrid(const StreetRecipe& r, const Land& land, std::uint64_t seed) {
     const glm::dvec2 size = land.size;
     const bool sea = !land.promenade.empty();
-
-    // The grid: lines every minorSpacing through the centre, rotated by `angle`.
     const double s = r.minorSpacing;
     const double theta = r.angle * std::numbers::pi / 180.0;
     const glm::dvec2 u{std::cos(theta), std::sin(theta)}, v{-u.y, u.x};
     const glm::dvec2 centre = 0.5 * size;
-    const int n = static_cast<int>(std::ceil(0.5 * glm::length(size) / s)) + 1;
-    const int side = 2 * n + 1;
-    const auto isMajor = [&](int i) {
-        const double k = std::round(i * s / r.majorSpacing);
-        return std::round(k * r.majorSpacing / s) == i;
-    };
-
+    StreetGrid grid;
+    grid.n = static_cast<int>(std::ceil(0.5 * glm::length(size) / s)) + 1;
+    const int n = grid.n;
     const std::uint64_t bendX = deriveSeed(seed, "street-bend", 0), bendY = deriveSeed(seed, "street-bend", 1);
     const double maxBend = std::min(r.bend, kMaxBend * s);
-    std::vector<glm::dvec2> nodes(static_cast<std::size_t>(side) * side);
-    std::vector<unsigned> ringSides(nodes.size(), 0u);  // bit k: snapped onto side k of the ring
+    grid.nodes.resize(static_cast<std::size_t>(2 * n + 1) * (2 * n + 1));
+    grid.ringSides.resize(grid.nodes.size(), 0u);
     const double snap = kRingSnap * s;
     for (int j = -n; j <= n; ++j)
         for (int i = -n; i <= n; ++i) {
-            const std::size_t index = static_cast<std::size_t>(j + n) * side + static_cast<std::size_t>(i + n);
             glm::dvec2 p = centre + (i * s) * u + (j * s) * v;
             if (maxBend > 0.0) {
                 const glm::dvec2 q = p / r.bendWavelength;
@@ -207,14 +199,17 @@ StreetGraph buildStreets(const StreetRecipe& r, double promenadeWidth, const Lan
             else if (std::abs(p.x - size.x) < snap) p.x = size.x, sides |= 2u;
             if (!sea && std::abs(p.y) < snap) p.y = 0.0, sides |= 4u;
             else if (std::abs(p.y - size.y) < snap) p.y = size.y, sides |= 8u;
-            nodes[index] = p;
-            ringSides[index] = sides;
+            grid.nodes[grid.index(i, j)] = p;
+            grid.ringSides[grid.index(i, j)] = sides;
         }
+    return grid;
+}
 
-    // The promenade first, then the ring road, then the grid lines.
-    const double minorHalf = 0.5 * r.minorWidth;
+// The promenade (a major street whose seaward kerb is the coastline) and the ring road.
+void addPromenadeAndRing(const StreetRecipe& r, double promenadeWidth, const Land& land, StreetGraph& graph) {
+    const glm::dvec2 size = land.size;
+    const bool sea = !land.promenade.empty();
     if (sea) {
-        // A major street whose seaward kerb is the coastline.
         Street promenade;
         promenade.id = 0;
         promenade.major = true;
@@ -224,22 +219,30 @@ StreetGraph buildStreets(const StreetRecipe& r, double promenadeWidth, const Lan
         for (std::size_t k = 0; k + 1 < land.promenade.size(); ++k)
             graph.segments.push_back({land.promenade[k], land.promenade[k + 1], 0.5 * promenadeWidth});
     }
-    {
-        Street ring;
-        ring.id = static_cast<int>(graph.streets.size());
-        ring.width = r.minorWidth;
-        if (sea)
-            ring.polyline = {{0.0, land.promenade.front().y}, {0.0, size.y}, size, {size.x, land.promenade.back().y}};
-        else
-            ring.polyline = {{0.0, 0.0}, {size.x, 0.0}, size, {0.0, size.y}, {0.0, 0.0}};
-        graph.streets.push_back(std::move(ring));
-        const glm::dvec2 corners[4] = {{0.0, 0.0}, {size.x, 0.0}, size, {0.0, size.y}};
-        for (int k = 0; k < 4; ++k) graph.segments.push_back({corners[k], corners[(k + 1) % 4], minorHalf});
-    }
+    Street ring;
+    ring.id = static_cast<int>(graph.streets.size());
+    ring.width = r.minorWidth;
+    if (sea)
+        ring.polyline = {{0.0, land.promenade.front().y}, {0.0, size.y}, size, {size.x, land.promenade.back().y}};
+    else
+        ring.polyline = {{0.0, 0.0}, {size.x, 0.0}, size, {0.0, size.y}, {0.0, 0.0}};
+    graph.streets.push_back(std::move(ring));
+    const glm::dvec2 corners[4] = {{0.0, 0.0}, {size.x, 0.0}, size, {0.0, size.y}};
+    for (int k = 0; k < 4; ++k) graph.segments.push_back({corners[k], corners[(k + 1) % 4], 0.5 * r.minorWidth});
+}
 
+// The grid's lines as streets clipped to the land, and their segments. Where both ends of a
+// segment snapped onto one side of the ring, the ring road is the street there.
+void addGridStreets(const StreetRecipe& r, const Land& land, const StreetGrid& grid, StreetGraph& graph) {
+    const int n = grid.n;
+    const double s = r.minorSpacing;
+    const auto isMajor = [&](int i) {
+        const double k = std::round(i * s / r.majorSpacing);
+        return std::round(k * r.majorSpacing / s) == i;
+    };
     const auto touchesCity = [&](glm::dvec2 a, glm::dvec2 b) {
-        return std::max(a.x, b.x) >= 0.0 && std::min(a.x, b.x) <= size.x && std::max(a.y, b.y) >= 0.0 &&
-               std::min(a.y, b.y) <= size.y;
+        return std::max(a.x, b.x) >= 0.0 && std::min(a.x, b.x) <= land.size.x && std::max(a.y, b.y) >= 0.0 &&
+               std::min(a.y, b.y) <= land.size.y;
     };
     for (int direction = 0; direction < 2; ++direction)
         for (int line = -n; line <= n; ++line) {
@@ -249,20 +252,23 @@ StreetGraph buildStreets(const StreetRecipe& r, double promenadeWidth, const Lan
             std::vector<bool> present;
             for (int k = -n; k < n; ++k) {
                 // direction 0: the line u = line * s, running along v; 1: v = line * s, along u.
-                const auto at = [&](int along) {
-                    const int i = direction == 0 ? line : along, j = direction == 0 ? along : line;
-                    return static_cast<std::size_t>(j + n) * side + static_cast<std::size_t>(i + n);
-                };
-                const std::size_t ia = at(k), ib = at(k + 1);
-                const glm::dvec2 a = nodes[ia], b = nodes[ib];
-                // Both ends on one side of the ring: the ring road is that street there.
-                const bool keep = (ringSides[ia] & ringSides[ib]) == 0 && touchesCity(a, b);
+                const std::size_t ia = direction == 0 ? grid.index(line, k) : grid.index(k, line);
+                const std::size_t ib = direction == 0 ? grid.index(line, k + 1) : grid.index(k + 1, line);
+                const glm::dvec2 a = grid.nodes[ia], b = grid.nodes[ib];
+                const bool keep = (grid.ringSides[ia] & grid.ringSides[ib]) == 0 && touchesCity(a, b);
                 chain.emplace_back(a, b);
                 present.push_back(keep);
                 if (keep) graph.segments.push_back({a, b, 0.5 * width});
             }
             addClippedStreets(land, chain, present, major, width, graph.streets);
         }
+}
+
+// The promenade first, then the ring road, then the grid's lines.
+StreetGraph buildStreets(const StreetRecipe& r, double promenadeWidth, const Land& land, std::uint64_t seed) {
+    StreetGraph graph;
+    addPromenadeAndRing(r, promenadeWidth, land, graph);
+    addGridStreets(r, land, streetGrid(r, land, seed), graph);
     return graph;
 }
 
@@ -311,10 +317,7 @@ bool validCurb(const Polygon2& curb, const Polygon2& face, const std::vector<dou
 Polygon2 curbPolygon(const Polygon2& face, const std::vector<double>& offset) {
     const std::size_t n = face.size();
     std::vector<glm::dvec2> normal(n);  // inward (the face is counter-clockwise)
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec2 d = glm::normalize(face[(i + 1) % n] - face[i]);
-        normal[i] = {-d.y, d.x};
-    }
+    for (std::size_t i = 0; i < n; ++i) normal[i] = inwardNormal(face[i], face[(i + 1) % n]);
     if (isConvex(face)) {
         // Intersection of the inward half-planes: exact for convex faces, and edges that
         // the offset swallows simply vanish.
@@ -363,19 +366,6 @@ Polygon2 curbPolygon(const Polygon2& face, const std::vector<double>& offset) {
     const double widest = *std::max_element(offset.begin(), offset.end());
     curb = insetPolygon(face, widest);
     return validCurb(curb, face, offset) ? curb : Polygon2{};
-}
-
-// A point strictly inside a simple polygon: the centroid of its largest triangle.
-glm::dvec2 interiorPoint(const Polygon2& polygon) {
-    const std::vector<std::uint32_t> triangles = triangulatePolygon(polygon);
-    glm::dvec2 best = polygon[0];
-    double bestArea = -1.0;
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
-        const glm::dvec2 a = polygon[triangles[t]], b = polygon[triangles[t + 1]], c = polygon[triangles[t + 2]];
-        const double area = cross(b - a, c - a);
-        if (area > bestArea) bestArea = area, best = (a + b + c) / 3.0;
-    }
-    return best;
 }
 
 // ---------------------------------------------------------------------------------------
@@ -538,18 +528,14 @@ void convexSplit(Piece piece, std::vector<Piece>& out, int depth) {
     const Polygon2& p = piece.polygon;
     const std::size_t n = p.size();
     if (n < 3) return;
-    std::size_t v = n;
-    for (std::size_t i = 0; i < n && v == n; ++i) {
-        const glm::dvec2 a = p[(i + n - 1) % n], b = p[i], c = p[(i + 1) % n];
-        if (cross(b - a, c - b) < -1e-12 * glm::length(b - a) * glm::length(c - b)) v = i;
-    }
+    const std::size_t v = reflexVertex(p);
     if (v == n) {
         out.push_back(std::move(piece));
         return;
     }
     if (depth > 256) return;
-    const glm::dvec2 b = p[v], e0 = glm::normalize(b - p[(v + n - 1) % n]), e1 = glm::normalize(p[(v + 1) % n] - b);
-    const glm::dvec2 bisector = glm::normalize(glm::dvec2(-e0.y, e0.x) + glm::dvec2(-e1.y, e1.x));
+    const glm::dvec2 b = p[v];
+    const glm::dvec2 bisector = glm::normalize(inwardNormal(p[(v + n - 1) % n], b) + inwardNormal(b, p[(v + 1) % n]));
     double best = std::numeric_limits<double>::infinity(), bestS = 0.0;
     std::size_t hit = n;
     for (std::size_t j = 0; j < n; ++j) {
@@ -637,59 +623,27 @@ std::vector<Piece> convexPieces(const Polygon2& inner) {
     return pieces;
 }
 
-}  // namespace
-
-double coastY(const CityPlan& plan, double x) {
-    const std::vector<glm::dvec2>& c = plan.coastline;
-    if (c.empty()) return -std::numeric_limits<double>::infinity();
-    if (x <= c.front().x) return c.front().y;
-    if (x >= c.back().x) return c.back().y;
-    const auto it = std::upper_bound(c.begin(), c.end(), x, [](double v, glm::dvec2 p) { return v < p.x; });
-    const glm::dvec2 b = *it, a = *(it - 1);
-    return a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x));
+// The coastline, west to east: smooth value noise about water * depth, kept inside the city
+// with room for the promenade.
+std::vector<glm::dvec2> coastline(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size) {
+    const CoastRecipe& coast = recipe.coast;
+    const std::uint64_t coastSeed = deriveSeed(seed, "coast");
+    const double top = std::max(0.0, size.y - 2.0 * coast.promenadeWidth - 0.5 * recipe.streets.minorSpacing);
+    const int samples = std::max(2, static_cast<int>(std::ceil(size.x / kCoastStep)));
+    std::vector<glm::dvec2> out;
+    for (int k = 0; k <= samples; ++k) {
+        const double x = k == samples ? size.x : size.x * k / samples;
+        const double q = x / coast.wavelength;
+        const double noise = 0.7 * valueNoise(coastSeed, {q, 0.5}) + 0.3 * valueNoise(coastSeed, {2.0 * q, 7.5});
+        out.push_back({x, std::clamp(coast.water * size.y + coast.amplitude * noise, 0.0, top)});
+    }
+    return out;
 }
 
-CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size, const ProgressFn& progress) {
-    if (!(std::isfinite(size.x) && std::isfinite(size.y) && size.x > 0.0 && size.y > 0.0))
-        throw InputError(format("city size must be positive and finite (got {} x {} m)", size.x, size.y));
-    const StreetRecipe& streets = recipe.streets;
-    const CoastRecipe& coast = recipe.coast;
-    if (!(streets.minorSpacing > 0.0) || !(streets.majorSpacing > 0.0) || !(streets.bendWavelength > 0.0) ||
-        !(coast.wavelength > 0.0) || !(recipe.lots.minArea > 0.0))
-        throw InputError("recipe: street spacings, wavelengths and lots.min_area must be positive");
-    const double gridSide = 2.0 * (std::ceil(0.5 * glm::length(size) / streets.minorSpacing) + 1.0) + 1.0;
-    if (gridSide * gridSide > kMaxGridNodes)
-        throw InputError(format("city size {} x {} m is too large for a street spacing of {} m", size.x, size.y,
-                                streets.minorSpacing));
-    reportProgress(progress, 0.0);
-
-    CityPlan plan;
-    plan.size = size;
-    Land land;
-    land.size = size;
-    if (coast.water > 0.0) {
-        // The coastline: smooth value noise about water * depth, kept inside the city with
-        // room for the promenade.
-        const std::uint64_t coastSeed = deriveSeed(seed, "coast");
-        const double top = std::max(0.0, size.y - 2.0 * coast.promenadeWidth - 0.5 * streets.minorSpacing);
-        const int samples = std::max(2, static_cast<int>(std::ceil(size.x / kCoastStep)));
-        for (int k = 0; k <= samples; ++k) {
-            const double x = k == samples ? size.x : size.x * k / samples;
-            const double q = x / coast.wavelength;
-            const double noise = 0.7 * valueNoise(coastSeed, {q, 0.5}) + 0.3 * valueNoise(coastSeed, {2.0 * q, 7.5});
-            const double y = std::clamp(coast.water * size.y + coast.amplitude * noise, 0.0, top);
-            plan.coastline.push_back({x, y});
-            land.promenade.push_back({x, y + 0.5 * coast.promenadeWidth});
-        }
-    }
-
-    StreetGraph graph = buildStreets(streets, coast.promenadeWidth, land, seed);
-    plan.streets = std::move(graph.streets);
-    reportProgress(progress, 0.2);
-
-    const std::vector<ArrangementFace> faces = arrangementFaces(graph.segments);
-    reportProgress(progress, 0.5);
-
+// The blocks: the arrangement's faces on the land, each shrunk to its kerb and its sidewalk's
+// inner edge, sorted by centroid (y, then x).
+std::vector<Block> blocksOf(std::span<const ArrangementFace> faces, const Land& land, const CityRecipe& recipe) {
+    std::vector<Block> blocks;
     for (const ArrangementFace& face : faces) {
         if (face.hasHoles || face.polygon.size() < 3) continue;
         if (!land.contains(interiorPoint(face.polygon))) continue;
@@ -699,29 +653,31 @@ CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size,
         Block block;
         block.curb = curbPolygon(polygon, offset);
         if (block.curb.empty() || signedArea(block.curb) < recipe.lots.minArea) continue;
-        block.inner = insetPolygon(block.curb, streets.sidewalkWidth);
+        block.inner = insetPolygon(block.curb, recipe.streets.sidewalkWidth);
         if (block.inner.size() < 3 || signedArea(block.inner) < recipe.lots.minArea) continue;
-        plan.blocks.push_back(std::move(block));
+        blocks.push_back(std::move(block));
     }
     std::vector<std::pair<glm::dvec2, std::size_t>> order;
-    for (std::size_t i = 0; i < plan.blocks.size(); ++i) order.emplace_back(centroid(plan.blocks[i].curb), i);
+    for (std::size_t i = 0; i < blocks.size(); ++i) order.emplace_back(centroid(blocks[i].curb), i);
     std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
         if (a.first.y != b.first.y) return a.first.y < b.first.y;
         if (a.first.x != b.first.x) return a.first.x < b.first.x;
         return a.second < b.second;
     });
-    {
-        std::vector<Block> sorted;
-        sorted.reserve(plan.blocks.size());
-        for (const auto& [c, i] : order) sorted.push_back(std::move(plan.blocks[i]));
-        plan.blocks = std::move(sorted);
-    }
+    std::vector<Block> sorted;
+    sorted.reserve(blocks.size());
+    for (const auto& [c, i] : order) sorted.push_back(std::move(blocks[i]));
+    return sorted;
+}
 
+// Splits every block into lots that keep clear of every street (plan.streets) and numbers
+// blocks and lots; reports progress from 0.5 to 1.
+void addLots(CityPlan& plan, const CityRecipe& recipe, std::uint64_t seed, const ProgressFn& progress) {
     std::vector<Clearance> clearances;
     for (const Street& street : plan.streets)
         for (std::size_t k = 0; k + 1 < street.polyline.size(); ++k)
             clearances.push_back(
-                {street.polyline[k], street.polyline[k + 1], 0.5 * street.width + streets.sidewalkWidth});
+                {street.polyline[k], street.polyline[k + 1], 0.5 * street.width + recipe.streets.sidewalkWidth});
     for (std::size_t b = 0; b < plan.blocks.size(); ++b) {
         Block& block = plan.blocks[b];
         block.id = static_cast<int>(b);
@@ -742,6 +698,42 @@ CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size,
         }
         if ((b & 15u) == 15u) reportProgress(progress, 0.5 + 0.5 * static_cast<double>(b + 1) / plan.blocks.size());
     }
+}
+
+}  // namespace
+
+double coastY(const CityPlan& plan, double x) { return yAt(plan.coastline, x); }
+
+CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size, const ProgressFn& progress) {
+    if (!(std::isfinite(size.x) && std::isfinite(size.y) && size.x > 0.0 && size.y > 0.0))
+        throw InputError(format("city size must be positive and finite (got {} x {} m)", size.x, size.y));
+    const StreetRecipe& streets = recipe.streets;
+    const CoastRecipe& coast = recipe.coast;
+    if (!(streets.minorSpacing > 0.0) || !(streets.majorSpacing > 0.0) || !(streets.bendWavelength > 0.0) ||
+        !(coast.wavelength > 0.0) || !(recipe.lots.minArea > 0.0))
+        throw InputError("recipe: street spacings, wavelengths and lots.min_area must be positive");
+    const double gridSide = 2.0 * (std::ceil(0.5 * glm::length(size) / streets.minorSpacing) + 1.0) + 1.0;
+    if (gridSide * gridSide > kMaxGridNodes)
+        throw InputError(format("city size {} x {} m is too large for a street spacing of {} m", size.x, size.y,
+                                streets.minorSpacing));
+    reportProgress(progress, 0.0);
+
+    CityPlan plan;
+    plan.size = size;
+    Land land;
+    land.size = size;
+    if (coast.water > 0.0) {
+        plan.coastline = coastline(recipe, seed, size);
+        for (glm::dvec2 p : plan.coastline) land.promenade.push_back({p.x, p.y + 0.5 * coast.promenadeWidth});
+    }
+    StreetGraph graph = buildStreets(streets, coast.promenadeWidth, land, seed);
+    plan.streets = std::move(graph.streets);
+    reportProgress(progress, 0.2);
+
+    const std::vector<ArrangementFace> faces = arrangementFaces(graph.segments);
+    reportProgress(progress, 0.5);
+    plan.blocks = blocksOf(faces, land, recipe);
+    addLots(plan, recipe, seed, progress);
     reportProgress(progress, 1.0);
     return plan;
 }

@@ -34,11 +34,6 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 
-double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-glm::dvec2 inwardNormal(glm::dvec2 a, glm::dvec2 b) {  // left of a->b: inside a CCW polygon
-    const glm::dvec2 u = glm::normalize(b - a);
-    return {-u.y, u.x};
-}
 glm::dvec3 worldD(glm::dvec2 p, double h) { return {p.x, h, -p.y}; }  // toWorld in double
 
 // uv = (dot(P - origin, u), dot(P - origin, v)) for the world point P, in metres.

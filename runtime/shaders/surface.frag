@@ -3,6 +3,7 @@
 // shows the room behind it (perspective interior mapping) under a front layer and a
 // Fresnel reflection of the sky.
 #include "common.glsl"
+#include "materials.glsl"
 #include "atlas.glsl"
 #include "interior.glsl"
 #include "surface.glsl"
@@ -11,8 +12,6 @@ layout(binding = 1) uniform sampler2D rooms;
 layout(binding = 2) uniform sampler2D roomMiddle;
 layout(location = 4) uniform int roomStyles;
 layout(location = 0) out vec4 outColor;
-
-const uint kGlass = 5u;
 
 vec3 fog(vec3 color, vec3 viewDir, float distance) {
     float haze = 1.0 - exp(-distance * 0.0009);

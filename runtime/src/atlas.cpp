@@ -7,6 +7,7 @@
 #include <dawnforge/runtime/atlas.hpp>
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/materials.hpp>
 #include <dawnforge/core/seed.hpp>
 
 #include <glm/common.hpp>
@@ -24,7 +25,7 @@ constexpr int kHalfCell = kAtlasCell / 2;
 constexpr int kCellsPerRow = kAtlasSize / kAtlasCell;
 
 // Brick and plaster cells hold four half-size colour variants.
-bool hasHalfVariants(int material) { return material == 2 || material == 4; }
+bool hasHalfVariants(int material) { return material == kBrick || material == kPlaster; }
 
 void checkBlock(AtlasBlock b) {
     DAWNFORGE_ASSERT(b.slot >= 0 && b.slot < 16, "slot must be 0..15");
@@ -339,21 +340,21 @@ Rgb paintRubble(float u, float v) {  // fracture faces: faceted chunks of concre
 
 Rgb paintTile(int material, int variant, float u, float v) {
     switch (material) {
-        case 0: return paintAsphalt(u, v);
-        case 1: return paintPaving(u, v);
-        case 2: return paintBrick(u, v, variant);
-        case 3: return paintConcrete(u, v);
-        case 4: return paintPlaster(u, v, variant);
-        case 5: return paintGlass(u, v);
-        case 6: return paintMetal(u, v);
-        case 7: return paintTrim(u, v);
-        case 8: return paintRoofTiles(u, v);
-        case 9: return paintFlatRoof(u, v);
-        case 10: return paintWood(u, v);
-        case 11: return paintInteriorWall(u, v);
-        case 12: return paintFloor(u, v);
-        case 13: return paintGround(u, v);
-        case 14: return paintSand(u, v);
+        case kAsphalt: return paintAsphalt(u, v);
+        case kPaving: return paintPaving(u, v);
+        case kBrick: return paintBrick(u, v, variant);
+        case kConcrete: return paintConcrete(u, v);
+        case kPlaster: return paintPlaster(u, v, variant);
+        case kGlass: return paintGlass(u, v);
+        case kMetal: return paintMetal(u, v);
+        case kTrim: return paintTrim(u, v);
+        case kRoofTiles: return paintRoofTiles(u, v);
+        case kRoofFlat: return paintFlatRoof(u, v);
+        case kWood: return paintWood(u, v);
+        case kInteriorWall: return paintInteriorWall(u, v);
+        case kFloor: return paintFloor(u, v);
+        case kGround: return paintGround(u, v);
+        case kSand: return paintSand(u, v);
         default: return paintRubble(u, v);
     }
 }
@@ -369,7 +370,7 @@ struct PlacedBlock {
 
 std::vector<PlacedBlock> atlasLayout() {
     std::vector<PlacedBlock> blocks;
-    for (int material = 0; material < 16; ++material) {
+    for (int material = 0; material < kMaterialCount; ++material) {
         if (hasHalfVariants(material))
             for (int variant = 0; variant < 4; ++variant) blocks.push_back({materialBlock(material, variant), material, variant});
         else
@@ -436,7 +437,7 @@ AtlasRect blockInterior(AtlasBlock b) { return toUv(interiorTexels(b)); }
 AtlasRect blockCell(AtlasBlock b) { return toUv(cellTexels(b)); }
 
 double materialTileMetres(int material) {
-    static constexpr double kTile[16] = {
+    static constexpr double kTile[kMaterialCount] = {
         4.0,  // asphalt
         2.0,  // paving: 0.5 m slabs
         2.0,  // brick: 30 courses of 6.7 cm, 8 bricks of 25 cm
@@ -454,12 +455,12 @@ double materialTileMetres(int material) {
         4.0,  // sand
         2.0,  // rubble: 20 cm chunks
     };
-    DAWNFORGE_ASSERT(material >= 0 && material < 16, "material must be 0..15");
+    DAWNFORGE_ASSERT(material >= 0 && material < kMaterialCount, "material must be 0..15");
     return kTile[material];
 }
 
 AtlasBlock materialBlock(int material, int variant) {
-    DAWNFORGE_ASSERT(material >= 0 && material < 16, "material must be 0..15");
+    DAWNFORGE_ASSERT(material >= 0 && material < kMaterialCount, "material must be 0..15");
     DAWNFORGE_ASSERT(variant >= 0 && variant < 4, "variant must be 0..3");
     return hasHalfVariants(material) ? AtlasBlock{material, variant} : AtlasBlock{material, -1};
 }

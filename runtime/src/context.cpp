@@ -77,7 +77,6 @@ public:
         eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         eglDestroyContext(display_, context_);
     }
-    bool isWindow() const override { return false; }
 
 private:
     EGLDisplay display_ = EGL_NO_DISPLAY;
@@ -105,7 +104,6 @@ public:
         glfwDestroyWindow(window_);
         glfwTerminate();
     }
-    bool isWindow() const override { return true; }
     glm::ivec2 framebufferSize() const override {
         glm::ivec2 s;
         glfwGetFramebufferSize(window_, &s.x, &s.y);

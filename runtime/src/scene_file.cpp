@@ -4,6 +4,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -143,7 +144,7 @@ DestructionInstance readDestruction(const Reader& r, const Json& j, const std::s
 SceneCamera readCamera(const Reader& r, const Json& j, const std::string& path) {
     r.object(j, path, {"name", "position", "target", "fov_degrees"});
     SceneCamera c;
-    c.name = r.name(r.required(j, path, "name", "each camera has a name for --camera"), path + ".name");
+    c.name = r.name(r.required(j, path, "name", "each camera has a name, by which it is chosen"), path + ".name");
     if (j.contains("position")) c.position = r.vec3(j["position"], path + ".position");
     if (j.contains("target")) c.target = r.vec3(j["target"], path + ".target");
     if (j.contains("fov_degrees")) c.fovDegrees = r.number(j["fov_degrees"], path + ".fov_degrees", 1.0, true, 179.0, true);
@@ -213,11 +214,7 @@ SceneFile loadSceneFile(const std::filesystem::path& file) {
     if (!std::filesystem::is_regular_file(file, ec))
         throw InputError(format("{}: no such file (expected a scene.json: {{\"format\": \"{}\", \"version\": {}, ...}})",
                                 file.string(), kFormat, kVersion));
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (!in) throw InputError(format("{}: cannot be read", file.string()));
-    SceneFile scene = parseSceneJson(std::move(text).str(), file);
+    SceneFile scene = parseSceneJson(readTextFile(file), file);
 
     const std::string source = file.string();
     if (scene.cityDir) {

@@ -165,6 +165,415 @@ void checkSettings(std::span<const RigidPiece> pieces, std::span<const Bond> bon
                                     bonds[i].b, pieces.size()));
 }
 
+// The principal frames and collision hulls of the pieces (built in parallel, each piece
+// on its own) and the bounds of their rest pose.
+struct PieceShapes {
+    std::vector<PrincipalInertia> principal;
+    std::vector<Hull> hulls;
+    glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
+};
+
+PieceShapes pieceShapes(std::span<const RigidPiece> pieces, const SimulationSettings& settings) {
+    const std::size_t n = pieces.size();
+    PieceShapes shapes;
+    shapes.principal.resize(n);
+    shapes.hulls.resize(n);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        shapes.principal[i] = principalInertia(pieces[i].inertia);
+        shapes.hulls[i] = buildHull(pieces[i], shapes.principal[i].axes, settings.hullVertices, settings.margin);
+    });
+    for (const RigidPiece& p : pieces)
+        for (const glm::vec3& v : p.mesh.positions) {
+            shapes.lo = glm::min(shapes.lo, p.centerOfMass + glm::dvec3(v));
+            shapes.hi = glm::max(shapes.hi, p.centerOfMass + glm::dvec3(v));
+        }
+    return shapes;
+}
+
+// Swept-sphere CCD size for a piece: half its smallest hull extent, so small fast pieces
+// do not tunnel through the ground.
+double ccdSize(const Hull& hull) {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const btVector3& v : hull.points) {
+        lo = glm::min(lo, toGlm(v));
+        hi = glm::max(hi, toGlm(v));
+    }
+    return std::max(1e-3, 0.5 * std::min({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}));
+}
+
+// Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond breaks
+// when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending of a round
+// section of the same area A, radius r, M about the anchor) exceeds what it carries at
+// rest (measureRestLoads) by more than its strength. Bullet's own impulse threshold is
+// not used: it compares each solver row alone and mixes N·s with N·m·s, so small bonds
+// under bending broke at any strength. Pieces of one glued cluster do not collide
+// (ClusterDispatcher); once a break splits the cluster, they do.
+struct Glue {
+    std::uint32_t a = 0;
+    btVector3 anchorInA;      // anchor in body A's frame
+    double area = 0.0;
+    double radius = 0.0;
+    double strength = 0.0;    // Pa, with this bond's variation
+    double restStress = 0.0;  // Pa, what the bond carries holding the structure at rest
+};
+
+// One run of simulate(). Bullet's results depend on the order of every call that
+// reaches it, so run() keeps one: pieces in piece order, glue in bond order, ground,
+// colliders, the rest-load probe, then fixed steps (the projectile, if any, is added
+// at the trigger step).
+class Simulation {
+public:
+    Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds, const SimulationSettings& settings,
+               PieceShapes shapes);
+    SimulationResult run(const ProgressFn& progress);
+
+private:
+    void addPieces();
+    void addGlue();
+    void addGroundAndColliders();
+    void measureRestLoads();
+    void trigger();
+    void collapse();
+    void explode();
+    void launchProjectile();
+    void step();
+    void advanceFrame();
+    void record(int frame);
+    void recordTurns(int frame);
+
+    btRigidBody& addBody(std::unique_ptr<btRigidBody> body, std::unique_ptr<btCollisionShape> shape);
+    double glueStress(std::size_t i) const;
+    void updateClusters();
+    void breakOverloadedGlue();
+    double totalEnergy() const;
+    glm::dquat meshOrientation(std::size_t i) const;
+
+    std::span<const RigidPiece> pieces_;
+    std::span<const Bond> bonds_;
+    const SimulationSettings& settings_;
+    const std::size_t n_;
+    const double dt_;          // one substep
+    const long triggerStep_;   // the substep after which the trigger fires (0: before the first)
+    PieceShapes shapes_;
+    World w_;
+    SimulationResult result_;
+    std::vector<BodyInfo> info_;            // per piece
+    std::vector<Glue> glue_;                // per bond, when there is glue
+    std::vector<btJointFeedback> feedback_;  // per bond; the joints point into it, so it is never resized
+    btRigidBody* projectile_ = nullptr;
+    BodyInfo projectileInfo_;
+    long step_ = 0;
+    // Turns along the path: each substep's rotation (always far below half a turn) is
+    // added up, following the quaternion continuously from the last recorded one, so a
+    // piece spinning more than half a turn per frame is told apart from one turning back.
+    std::vector<glm::dquat> recorded_;  // the orientations written for the last frame
+    std::vector<glm::dquat> path_;
+    std::vector<double> travelled_;
+};
+
+Simulation::Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds,
+                       const SimulationSettings& settings, PieceShapes shapes)
+    : pieces_(pieces), bonds_(bonds), settings_(settings), n_(pieces.size()),
+      dt_(1.0 / settings.fps / settings.substeps),
+      triggerStep_(std::lround(std::ceil(settings.triggerTime / dt_ - 1e-9))), shapes_(std::move(shapes)),
+      recorded_(n_), path_(n_), travelled_(n_) {
+    w_.world->setGravity(bt(settings_.gravity));
+    btContactSolverInfo& solverInfo = w_.world->getSolverInfo();
+    solverInfo.m_numIterations = settings_.solverIterations;
+    solverInfo.m_solverMode &= ~SOLVER_RANDMIZE_ORDER;
+    solverInfo.m_splitImpulse = 1;
+
+    result_.frames = settings_.frames;
+    result_.fps = settings_.fps;
+    result_.pieces = n_;
+    result_.groundHeight = settings_.groundHeight.value_or(shapes_.lo.y);
+    result_.transforms.resize(std::size_t(settings_.frames) * n_ * 7);
+    result_.turns.assign(std::size_t(settings_.frames) * n_, 0.0f);
+}
+
+SimulationResult Simulation::run(const ProgressFn& progress) {
+    addPieces();
+    addGlue();
+    updateClusters();
+    addGroundAndColliders();
+    if (!glue_.empty()) measureRestLoads();
+    if (triggerStep_ == 0) trigger();
+    record(0);
+    for (int frame = 1; frame < settings_.frames; ++frame) {
+        advanceFrame();
+        record(frame);
+        recordTurns(frame);
+        if (!progress(double(frame) / double(settings_.frames - 1))) throw Cancelled();
+    }
+    for (const auto& c : w_.constraints)
+        if (!c->isEnabled()) ++result_.brokenBonds;
+    return std::move(result_);
+}
+
+// Adds a body to the world and keeps it and its shape alive with it.
+btRigidBody& Simulation::addBody(std::unique_ptr<btRigidBody> body, std::unique_ptr<btCollisionShape> shape) {
+    w_.world->addRigidBody(body.get());
+    w_.shapes.push_back(std::move(shape));
+    w_.bodies.push_back(std::move(body));
+    return *w_.bodies.back();
+}
+
+// One body per piece, in its principal frame; the body's user index is its piece.
+void Simulation::addPieces() {
+    for (std::size_t i = 0; i < n_; ++i) {
+        const RigidPiece& p = pieces_[i];
+        const PrincipalInertia& pi = shapes_.principal[i];
+        const Hull& hull = shapes_.hulls[i];
+        for (int c = 0; c < 3; ++c)
+            if (!(pi.moments[c] > 0.0) || !std::isfinite(pi.moments[c]))
+                throw InputError(format("piece {} ({}) has an inertia tensor that is not positive definite", i, p.name));
+        auto shape = std::make_unique<btConvexHullShape>(&hull.points[0].x(), int(hull.points.size()),
+                                                         int(sizeof(btVector3)));
+        shape->setMargin(hull.margin);
+        result_.hullVertices.push_back(int(hull.points.size()));
+        const glm::dquat frame = glm::quat_cast(pi.axes);
+        btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(), bt(pi.moments));
+        ci.m_startWorldTransform = btTransform(bt(frame), bt(p.centerOfMass));
+        ci.m_friction = btScalar(settings_.friction);
+        ci.m_restitution = btScalar(settings_.restitution);
+        ci.m_linearDamping = btScalar(settings_.linearDamping);
+        ci.m_angularDamping = btScalar(settings_.angularDamping);
+        auto body = std::make_unique<btRigidBody>(ci);
+        body->setUserIndex(int(i));
+        const double small = ccdSize(hull);
+        body->setCcdMotionThreshold(btScalar(0.5 * small));
+        body->setCcdSweptSphereRadius(btScalar(0.8 * small));
+        addBody(std::move(body), std::move(shape));
+        info_.push_back({glm::conjugate(frame), pi.moments, p.mass});
+    }
+}
+
+void Simulation::addGlue() {
+    if (!(settings_.strength > 0.0)) return;
+    feedback_.resize(bonds_.size());
+    for (std::size_t i = 0; i < bonds_.size(); ++i) {
+        const Bond& b = bonds_[i];
+        btRigidBody& A = *w_.bodies[b.a];
+        btRigidBody& B = *w_.bodies[b.b];
+        const btTransform anchor(btQuaternion::getIdentity(), bt(b.centroid));
+        const btTransform inA = A.getCenterOfMassTransform().inverse() * anchor;
+        const btTransform inB = B.getCenterOfMassTransform().inverse() * anchor;
+        auto joint = std::make_unique<btFixedConstraint>(A, B, inA, inB);
+        joint->setJointFeedback(&feedback_[i]);
+        Rng rng(deriveSeed(settings_.seed, "bond-strength", i));
+        const double variation = 1.0 + settings_.strengthVariation * (2.0 * rng.uniform() - 1.0);
+        const double area = std::max(b.area, 1e-8);
+        glue_.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), settings_.strength * variation});
+        w_.world->addConstraint(joint.get(), true);
+        w_.constraints.push_back(std::move(joint));
+    }
+    result_.bonds = w_.constraints.size();
+}
+
+void Simulation::addGroundAndColliders() {
+    if (settings_.ground) {
+        auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(result_.groundHeight));
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, plane.get());
+        ci.m_friction = btScalar(settings_.friction);
+        ci.m_restitution = btScalar(settings_.restitution);
+        addBody(std::make_unique<btRigidBody>(ci), std::move(plane));
+    }
+    for (const Mesh& m : settings_.colliders) {
+        auto& vertices = w_.colliderVertices.emplace_back();
+        auto& indices = w_.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
+        for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
+        auto array = std::make_unique<btTriangleIndexVertexArray>(int(indices.size() / 3), indices.data(),
+                                                                  int(3 * sizeof(int)), int(m.positions.size()),
+                                                                  vertices.data(), int(3 * sizeof(btScalar)));
+        auto shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
+        ci.m_friction = btScalar(settings_.friction);
+        w_.triangleArrays.push_back(std::move(array));
+        addBody(std::make_unique<btRigidBody>(ci), std::move(shape));
+    }
+}
+
+// What each bond carries to hold the structure up at rest: a rigid solver spreads a
+// static load over redundant joints in no physical proportion (small bonds can carry
+// most of it), so a bond breaks on the stress above this, not on the stress itself.
+// Measured over a few steps from the rest pose, which is then restored.
+void Simulation::measureRestLoads() {
+    constexpr int kProbeSteps = 8;
+    for (int s = 0; s < kProbeSteps; ++s) {
+        w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
+        for (std::size_t i = 0; i < glue_.size(); ++i)
+            glue_[i].restStress = std::max(glue_[i].restStress, 1.25 * glueStress(i));
+    }
+    for (std::size_t i = 0; i < n_; ++i) {
+        btRigidBody& body = *w_.bodies[i];
+        body.setCenterOfMassTransform(btTransform(bt(glm::conjugate(info_[i].toMesh)), bt(pieces_[i].centerOfMass)));
+        body.setLinearVelocity(btVector3(0, 0, 0));
+        body.setAngularVelocity(btVector3(0, 0, 0));
+        body.clearForces();
+        body.setDeactivationTime(0);
+        body.activate(true);
+    }
+}
+
+void Simulation::trigger() {
+    if (settings_.collapse) collapse();
+    if (settings_.explosion) explode();
+    if (settings_.projectile) launchProjectile();
+}
+
+// Every bond breaks at once.
+void Simulation::collapse() {
+    for (auto& c : w_.constraints) c->setEnabled(false);
+    for (std::size_t i = 0; i < n_; ++i) w_.bodies[i]->activate(true);
+    updateClusters();
+}
+
+void Simulation::explode() {
+    const Explosion& x = *settings_.explosion;
+    const double before = totalEnergy();
+    for (std::size_t i = 0; i < n_; ++i) {
+        const glm::dvec3 d = pieces_[i].centerOfMass - x.center;
+        const double dist = glm::length(d);
+        if (dist >= x.radius) continue;
+        const double falloff = (1.0 - dist / x.radius) * (1.0 - dist / x.radius);
+        const glm::dvec3 dir = dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0);
+        w_.bodies[i]->activate(true);
+        w_.bodies[i]->applyCentralImpulse(bt(dir * (x.impulse * falloff)));
+    }
+    result_.injectedEnergy += totalEnergy() - before;
+}
+
+void Simulation::launchProjectile() {
+    const Projectile& p = *settings_.projectile;
+    const glm::dvec3 dir = glm::normalize(p.direction);
+    // Back from the target along the direction until outside the pieces' bounds.
+    double exit = std::numeric_limits<double>::max();
+    for (int a = 0; a < 3; ++a) {
+        if (dir[a] > 1e-12) exit = std::min(exit, (p.target[a] - shapes_.lo[a]) / dir[a]);
+        if (dir[a] < -1e-12) exit = std::min(exit, (shapes_.hi[a] - p.target[a]) / -dir[a]);
+    }
+    const glm::dvec3 start = p.target - dir * (std::max(0.0, exit) + p.radius + 0.05);
+    auto shape = std::make_unique<btSphereShape>(btScalar(p.radius));
+    const double moment = 0.4 * p.mass * p.radius * p.radius;
+    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(),
+                                                btVector3(btScalar(moment), btScalar(moment), btScalar(moment)));
+    ci.m_startWorldTransform = btTransform(btQuaternion::getIdentity(), bt(start));
+    ci.m_friction = btScalar(settings_.friction);
+    ci.m_restitution = btScalar(settings_.restitution);
+    auto body = std::make_unique<btRigidBody>(ci);
+    body->setLinearVelocity(bt(dir * p.speed));
+    body->setCcdMotionThreshold(btScalar(0.5 * p.radius));
+    body->setCcdSweptSphereRadius(btScalar(0.9 * p.radius));
+    projectile_ = &addBody(std::move(body), std::move(shape));
+    projectileInfo_ = {glm::dquat(1.0, 0.0, 0.0, 0.0), glm::dvec3(moment), p.mass};
+    result_.injectedEnergy += energyOf(*projectile_, projectileInfo_, settings_.gravity);
+}
+
+// One fixed Bullet step, then the glue check, then the trigger when it is due.
+void Simulation::step() {
+    w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
+    breakOverloadedGlue();
+    ++step_;
+    if (step_ == triggerStep_) trigger();
+}
+
+// One frame's substeps, following each piece's turns from the last recorded orientation.
+void Simulation::advanceFrame() {
+    for (std::size_t i = 0; i < n_; ++i) {
+        path_[i] = recorded_[i];
+        travelled_[i] = 0.0;
+    }
+    for (int s = 0; s < settings_.substeps; ++s) {
+        step();
+        for (std::size_t i = 0; i < n_; ++i) {
+            glm::dquat q = meshOrientation(i);
+            const double d = glm::dot(q, path_[i]);
+            if (d < 0.0) q = -q;
+            travelled_[i] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
+            path_[i] = q;
+        }
+    }
+}
+
+void Simulation::record(int frame) {
+    float* out = result_.transforms.data() + std::size_t(frame) * n_ * 7;
+    for (std::size_t i = 0; i < n_; ++i, out += 7) {
+        const btRigidBody& body = *w_.bodies[i];
+        const glm::dvec3 x = frame == 0 ? pieces_[i].centerOfMass : toGlm(body.getCenterOfMassPosition());
+        glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : meshOrientation(i);
+        if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
+        recorded_[i] = q;
+        const std::array<double, 7> values{x.x, x.y, x.z, q.x, q.y, q.z, q.w};
+        for (int c = 0; c < 7; ++c) {
+            if (!std::isfinite(values[std::size_t(c)]))
+                throw std::runtime_error(format("simulate(): piece {} is not finite at frame {}", i, frame));
+            out[c] = float(values[std::size_t(c)]);
+        }
+        result_.maxSpeed = std::max(result_.maxSpeed, double(body.getLinearVelocity().length()));
+    }
+    result_.energy.push_back(totalEnergy() - result_.injectedEnergy);
+}
+
+// The turns from frame - 1 to `frame`, negative when the path ends at the negated
+// orientation of what record() wrote.
+void Simulation::recordTurns(int frame) {
+    for (std::size_t i = 0; i < n_; ++i) {
+        const double turns = travelled_[i] / glm::two_pi<double>();
+        result_.turns[std::size_t(frame - 1) * n_ + i] = float(glm::dot(path_[i], recorded_[i]) < 0.0 ? -turns : turns);
+    }
+}
+
+double Simulation::glueStress(std::size_t i) const {
+    const btRigidBody& A = *w_.bodies[glue_[i].a];
+    const glm::dvec3 force = toGlm(feedback_[i].m_appliedForceBodyA);
+    const glm::dvec3 lever = toGlm(A.getCenterOfMassTransform().getBasis() * glue_[i].anchorInA);
+    const glm::dvec3 moment = toGlm(feedback_[i].m_appliedTorqueBodyA) - glm::cross(lever, force);
+    return glm::length(force) / glue_[i].area + 4.0 * glm::length(moment) / (glue_[i].area * glue_[i].radius);
+}
+
+// Clusters: connected components of the unbroken bonds (union-find, smallest index as
+// the representative, so the labels depend on the bonds alone).
+void Simulation::updateClusters() {
+    std::vector<int>& parent = w_.dispatcher.cluster;
+    parent.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) parent[i] = int(i);
+    auto find = [&](int x) {
+        while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
+        return x;
+    };
+    for (std::size_t i = 0; i < glue_.size(); ++i) {
+        if (!w_.constraints[i]->isEnabled()) continue;
+        const int a = find(int(bonds_[i].a)), b = find(int(bonds_[i].b));
+        if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
+    }
+    for (std::size_t i = 0; i < n_; ++i) parent[i] = find(int(i));
+}
+
+void Simulation::breakOverloadedGlue() {
+    bool broke = false;
+    for (std::size_t i = 0; i < glue_.size(); ++i) {
+        btTypedConstraint& joint = *w_.constraints[i];
+        if (!joint.isEnabled() || glueStress(i) - glue_[i].restStress <= glue_[i].strength) continue;
+        joint.setEnabled(false);
+        joint.getRigidBodyA().activate(true);
+        joint.getRigidBodyB().activate(true);
+        broke = true;
+    }
+    if (broke) updateClusters();
+}
+
+double Simulation::totalEnergy() const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < n_; ++i) e += energyOf(*w_.bodies[i], info_[i], settings_.gravity);
+    if (projectile_) e += energyOf(*projectile_, projectileInfo_, settings_.gravity);
+    return e;
+}
+
+// A piece's mesh orientation: its body's with the principal frame taken back out.
+glm::dquat Simulation::meshOrientation(std::size_t i) const {
+    return glm::normalize(toGlm(w_.bodies[i]->getCenterOfMassTransform().getRotation()) * info_[i].toMesh);
+}
+
 }  // namespace
 
 std::vector<RigidPiece> rigidPieces(const FractureResult& fracture) {
@@ -218,319 +627,13 @@ PrincipalInertia principalInertia(const glm::dmat3& inertia) {
 SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bond> bonds,
                           const SimulationSettings& settings, const ProgressFn& progress) {
     checkSettings(pieces, bonds, settings);
-    const std::size_t n = pieces.size();
-    const double frameDt = 1.0 / settings.fps;
-    const double dt = frameDt / settings.substeps;
-
-    // Principal frames and hulls (parallel; each piece on its own).
-    std::vector<PrincipalInertia> principal(n);
-    std::vector<Hull> hulls(n);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-        principal[i] = principalInertia(pieces[i].inertia);
-        hulls[i] = buildHull(pieces[i], principal[i].axes, settings.hullVertices, settings.margin);
-    });
-
-    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (const RigidPiece& p : pieces)
-        for (const glm::vec3& v : p.mesh.positions) {
-            lo = glm::min(lo, p.centerOfMass + glm::dvec3(v));
-            hi = glm::max(hi, p.centerOfMass + glm::dvec3(v));
-        }
-
+    PieceShapes shapes = pieceShapes(pieces, settings);
     // Bodies slower than Bullet's thresholds (0.8 m/s, 1 rad/s) for a second fall asleep
     // (Bullet's default is two): rubble at rest costs nothing. A library global, always
     // set to the same value here.
     gDeactivationTime = btScalar(1.0);
-    World w;
-    w.world->setGravity(bt(settings.gravity));
-    btContactSolverInfo& solverInfo = w.world->getSolverInfo();
-    solverInfo.m_numIterations = settings.solverIterations;
-    solverInfo.m_solverMode &= ~SOLVER_RANDMIZE_ORDER;
-    solverInfo.m_splitImpulse = 1;
-
-    SimulationResult result;
-    result.frames = settings.frames;
-    result.fps = settings.fps;
-    result.pieces = n;
-    result.groundHeight = settings.groundHeight.value_or(lo.y);
-
-    std::vector<BodyInfo> info;
-    for (std::size_t i = 0; i < n; ++i) {
-        const RigidPiece& p = pieces[i];
-        const PrincipalInertia& pi = principal[i];
-        for (int c = 0; c < 3; ++c)
-            if (!(pi.moments[c] > 0.0) || !std::isfinite(pi.moments[c]))
-                throw InputError(format("piece {} ({}) has an inertia tensor that is not positive definite", i, p.name));
-        auto shape = std::make_unique<btConvexHullShape>(&hulls[i].points[0].x(), int(hulls[i].points.size()),
-                                                         int(sizeof(btVector3)));
-        shape->setMargin(hulls[i].margin);
-        result.hullVertices.push_back(int(hulls[i].points.size()));
-        const glm::dquat frame = glm::quat_cast(pi.axes);
-        btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(), bt(pi.moments));
-        ci.m_startWorldTransform = btTransform(bt(frame), bt(p.centerOfMass));
-        ci.m_friction = btScalar(settings.friction);
-        ci.m_restitution = btScalar(settings.restitution);
-        ci.m_linearDamping = btScalar(settings.linearDamping);
-        ci.m_angularDamping = btScalar(settings.angularDamping);
-        auto body = std::make_unique<btRigidBody>(ci);
-        body->setUserIndex(int(i));
-        // Swept-sphere CCD for small fast pieces: no tunnelling through the ground.
-        glm::dvec3 plo(std::numeric_limits<double>::max()), phi(-std::numeric_limits<double>::max());
-        for (const btVector3& v : hulls[i].points) {
-            plo = glm::min(plo, toGlm(v));
-            phi = glm::max(phi, toGlm(v));
-        }
-        const double small = std::max(1e-3, 0.5 * std::min({phi.x - plo.x, phi.y - plo.y, phi.z - plo.z}));
-        body->setCcdMotionThreshold(btScalar(0.5 * small));
-        body->setCcdSweptSphereRadius(btScalar(0.8 * small));
-        w.world->addRigidBody(body.get());
-        w.shapes.push_back(std::move(shape));
-        w.bodies.push_back(std::move(body));
-        info.push_back({glm::conjugate(frame), pi.moments, p.mass});
-    }
-
-    // Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond
-    // breaks when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending
-    // of a round section of the same area A, radius r, M about the anchor) exceeds what
-    // it carries at rest (measured below) by more than its strength. Bullet's own impulse
-    // threshold is not used: it compares each solver row alone and mixes N·s with N·m·s,
-    // so small bonds under bending broke at any strength. Pieces of one glued cluster do
-    // not collide (ClusterDispatcher); once a break splits the cluster, they do.
-    struct Glue {
-        std::uint32_t a = 0;
-        btVector3 anchorInA;   // anchor in body A's frame
-        double area = 0.0;
-        double radius = 0.0;
-        double strength = 0.0; // Pa, with this bond's variation
-        double restStress = 0.0; // Pa, what the bond carries holding the structure at rest
-    };
-    std::vector<Glue> glue;
-    std::vector<btJointFeedback> feedback(settings.strength > 0.0 ? bonds.size() : 0);
-    for (std::size_t i = 0; i < bonds.size() && settings.strength > 0.0; ++i) {
-        const Bond& b = bonds[i];
-        btRigidBody& A = *w.bodies[b.a];
-        btRigidBody& B = *w.bodies[b.b];
-        const btTransform anchor(btQuaternion::getIdentity(), bt(b.centroid));
-        const btTransform inA = A.getCenterOfMassTransform().inverse() * anchor;
-        const btTransform inB = B.getCenterOfMassTransform().inverse() * anchor;
-        auto joint = std::make_unique<btFixedConstraint>(A, B, inA, inB);
-        joint->setJointFeedback(&feedback[i]);
-        Rng rng(deriveSeed(settings.seed, "bond-strength", i));
-        const double variation = 1.0 + settings.strengthVariation * (2.0 * rng.uniform() - 1.0);
-        const double area = std::max(b.area, 1e-8);
-        glue.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), settings.strength * variation});
-        w.world->addConstraint(joint.get(), true);
-        w.constraints.push_back(std::move(joint));
-    }
-    result.bonds = w.constraints.size();
-    long step = 0;
-    auto glueStress = [&](std::size_t i) {
-        const btRigidBody& A = *w.bodies[glue[i].a];
-        const glm::dvec3 force = toGlm(feedback[i].m_appliedForceBodyA);
-        const glm::dvec3 lever = toGlm(A.getCenterOfMassTransform().getBasis() * glue[i].anchorInA);
-        const glm::dvec3 moment = toGlm(feedback[i].m_appliedTorqueBodyA) - glm::cross(lever, force);
-        return glm::length(force) / glue[i].area + 4.0 * glm::length(moment) / (glue[i].area * glue[i].radius);
-    };
-    // Clusters: connected components of the unbroken bonds (union-find, smallest index as
-    // the representative, so the labels depend on the bonds alone).
-    auto updateClusters = [&] {
-        std::vector<int>& parent = w.dispatcher.cluster;
-        parent.resize(n);
-        for (std::size_t i = 0; i < n; ++i) parent[i] = int(i);
-        auto find = [&](int x) {
-            while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
-            return x;
-        };
-        for (std::size_t i = 0; i < glue.size(); ++i) {
-            if (!w.constraints[i]->isEnabled()) continue;
-            const int a = find(int(bonds[i].a)), b = find(int(bonds[i].b));
-            if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
-        }
-        for (std::size_t i = 0; i < n; ++i) parent[i] = find(int(i));
-    };
-    updateClusters();
-    auto breakOverloadedGlue = [&] {
-        bool broke = false;
-        for (std::size_t i = 0; i < glue.size(); ++i) {
-            btTypedConstraint& joint = *w.constraints[i];
-            if (!joint.isEnabled() || glueStress(i) - glue[i].restStress <= glue[i].strength) continue;
-            joint.setEnabled(false);
-            joint.getRigidBodyA().activate(true);
-            joint.getRigidBodyB().activate(true);
-            broke = true;
-        }
-        if (broke) updateClusters();
-    };
-
-    if (settings.ground) {
-        auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(result.groundHeight));
-        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, plane.get());
-        ci.m_friction = btScalar(settings.friction);
-        ci.m_restitution = btScalar(settings.restitution);
-        auto body = std::make_unique<btRigidBody>(ci);
-        w.world->addRigidBody(body.get());
-        w.shapes.push_back(std::move(plane));
-        w.bodies.push_back(std::move(body));
-    }
-    for (std::size_t c = 0; c < settings.colliders.size(); ++c) {
-        const Mesh& m = settings.colliders[c];
-        auto& vertices = w.colliderVertices.emplace_back();
-        auto& indices = w.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
-        for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
-        auto array = std::make_unique<btTriangleIndexVertexArray>(int(indices.size() / 3), indices.data(),
-                                                                  int(3 * sizeof(int)), int(m.positions.size()),
-                                                                  vertices.data(), int(3 * sizeof(btScalar)));
-        auto shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
-        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
-        ci.m_friction = btScalar(settings.friction);
-        auto body = std::make_unique<btRigidBody>(ci);
-        w.world->addRigidBody(body.get());
-        w.triangleArrays.push_back(std::move(array));
-        w.shapes.push_back(std::move(shape));
-        w.bodies.push_back(std::move(body));
-    }
-
-    btRigidBody* projectile = nullptr;
-    BodyInfo projectileInfo;
-    const long triggerStep = std::lround(std::ceil(settings.triggerTime / dt - 1e-9));
-
-    auto totalEnergy = [&] {
-        double e = 0.0;
-        for (std::size_t i = 0; i < n; ++i) e += energyOf(*w.bodies[i], info[i], settings.gravity);
-        if (projectile) e += energyOf(*projectile, projectileInfo, settings.gravity);
-        return e;
-    };
-    auto trigger = [&] {
-        if (settings.collapse) {
-            for (auto& c : w.constraints) c->setEnabled(false);
-            for (std::size_t i = 0; i < n; ++i) w.bodies[i]->activate(true);
-            updateClusters();
-        }
-        if (settings.explosion) {
-            const Explosion& x = *settings.explosion;
-            const double before = totalEnergy();
-            for (std::size_t i = 0; i < n; ++i) {
-                const glm::dvec3 d = pieces[i].centerOfMass - x.center;
-                const double dist = glm::length(d);
-                if (dist >= x.radius) continue;
-                const double falloff = (1.0 - dist / x.radius) * (1.0 - dist / x.radius);
-                const glm::dvec3 dir = dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0);
-                w.bodies[i]->activate(true);
-                w.bodies[i]->applyCentralImpulse(bt(dir * (x.impulse * falloff)));
-            }
-            result.injectedEnergy += totalEnergy() - before;
-        }
-        if (settings.projectile) {
-            const Projectile& p = *settings.projectile;
-            const glm::dvec3 dir = glm::normalize(p.direction);
-            // Back from the target along the direction until outside the pieces' bounds.
-            double exit = std::numeric_limits<double>::max();
-            for (int a = 0; a < 3; ++a) {
-                if (dir[a] > 1e-12) exit = std::min(exit, (p.target[a] - lo[a]) / dir[a]);
-                if (dir[a] < -1e-12) exit = std::min(exit, (hi[a] - p.target[a]) / -dir[a]);
-            }
-            const glm::dvec3 start = p.target - dir * (std::max(0.0, exit) + p.radius + 0.05);
-            auto shape = std::make_unique<btSphereShape>(btScalar(p.radius));
-            const double moment = 0.4 * p.mass * p.radius * p.radius;
-            btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(),
-                                                        btVector3(btScalar(moment), btScalar(moment), btScalar(moment)));
-            ci.m_startWorldTransform = btTransform(btQuaternion::getIdentity(), bt(start));
-            ci.m_friction = btScalar(settings.friction);
-            ci.m_restitution = btScalar(settings.restitution);
-            auto body = std::make_unique<btRigidBody>(ci);
-            body->setLinearVelocity(bt(dir * p.speed));
-            body->setCcdMotionThreshold(btScalar(0.5 * p.radius));
-            body->setCcdSweptSphereRadius(btScalar(0.9 * p.radius));
-            w.world->addRigidBody(body.get());
-            projectile = body.get();
-            projectileInfo = {glm::dquat(1.0, 0.0, 0.0, 0.0), glm::dvec3(moment), p.mass};
-            result.injectedEnergy += energyOf(*projectile, projectileInfo, settings.gravity);
-            w.shapes.push_back(std::move(shape));
-            w.bodies.push_back(std::move(body));
-        }
-    };
-
-    // A piece's mesh orientation: its body's with the principal frame taken back out.
-    auto meshOrientation = [&](std::size_t i) {
-        return glm::normalize(toGlm(w.bodies[i]->getCenterOfMassTransform().getRotation()) * info[i].toMesh);
-    };
-    result.transforms.resize(std::size_t(settings.frames) * n * 7);
-    result.turns.assign(std::size_t(settings.frames) * n, 0.0f);
-    std::vector<glm::dquat> recorded(n);  // the orientations written for the last frame
-    auto record = [&](int frame) {
-        float* out = result.transforms.data() + std::size_t(frame) * n * 7;
-        for (std::size_t i = 0; i < n; ++i, out += 7) {
-            const btRigidBody& body = *w.bodies[i];
-            const glm::dvec3 x = frame == 0 ? pieces[i].centerOfMass : toGlm(body.getCenterOfMassPosition());
-            glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : meshOrientation(i);
-            if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
-            recorded[i] = q;
-            const std::array<double, 7> values{x.x, x.y, x.z, q.x, q.y, q.z, q.w};
-            for (int c = 0; c < 7; ++c) {
-                if (!std::isfinite(values[std::size_t(c)]))
-                    throw std::runtime_error(format("simulate(): piece {} is not finite at frame {}", i, frame));
-                out[c] = float(values[std::size_t(c)]);
-            }
-            result.maxSpeed = std::max(result.maxSpeed, double(body.getLinearVelocity().length()));
-        }
-        result.energy.push_back(totalEnergy() - result.injectedEnergy);
-    };
-
-    // What each bond carries to hold the structure up at rest: a rigid solver spreads a
-    // static load over redundant joints in no physical proportion (small bonds can carry
-    // most of it), so a bond breaks on the stress above this, not on the stress itself.
-    // Measured over a few steps from the rest pose, which is then restored.
-    if (!glue.empty()) {
-        constexpr int kProbeSteps = 8;
-        for (int s = 0; s < kProbeSteps; ++s) {
-            w.world->stepSimulation(btScalar(dt), 0, btScalar(dt));
-            for (std::size_t i = 0; i < glue.size(); ++i) glue[i].restStress = std::max(glue[i].restStress, 1.25 * glueStress(i));
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            btRigidBody& body = *w.bodies[i];
-            body.setCenterOfMassTransform(btTransform(bt(glm::conjugate(info[i].toMesh)), bt(pieces[i].centerOfMass)));
-            body.setLinearVelocity(btVector3(0, 0, 0));
-            body.setAngularVelocity(btVector3(0, 0, 0));
-            body.clearForces();
-            body.setDeactivationTime(0);
-            body.activate(true);
-        }
-    }
-    if (triggerStep == 0) trigger();
-    record(0);
-    // Turns along the path: each substep's rotation (always far below half a turn) is
-    // added up, following the quaternion continuously from the last recorded one, so a
-    // piece spinning more than half a turn per frame is told apart from one turning back.
-    std::vector<glm::dquat> path(n);
-    std::vector<double> travelled(n);
-    for (int frame = 1; frame < settings.frames; ++frame) {
-        for (std::size_t i = 0; i < n; ++i) {
-            path[i] = recorded[i];
-            travelled[i] = 0.0;
-        }
-        for (int s = 0; s < settings.substeps; ++s) {
-            w.world->stepSimulation(btScalar(dt), 0, btScalar(dt));
-            breakOverloadedGlue();
-            ++step;
-            if (step == triggerStep) trigger();
-            for (std::size_t i = 0; i < n; ++i) {
-                glm::dquat q = meshOrientation(i);
-                const double d = glm::dot(q, path[i]);
-                if (d < 0.0) q = -q;
-                travelled[i] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
-                path[i] = q;
-            }
-        }
-        record(frame);
-        for (std::size_t i = 0; i < n; ++i) {
-            const double turns = travelled[i] / glm::two_pi<double>();
-            result.turns[std::size_t(frame - 1) * n + i] = float(glm::dot(path[i], recorded[i]) < 0.0 ? -turns : turns);
-        }
-        if (!progress(double(frame) / double(settings.frames - 1))) throw Cancelled();
-    }
-    for (const auto& c : w.constraints)
-        if (!c->isEnabled()) ++result.brokenBonds;
-    return result;
+    Simulation simulation(pieces, bonds, settings, std::move(shapes));
+    return simulation.run(progress);
 }
 
 }  // namespace dawnforge::sim

@@ -3,6 +3,7 @@
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/core/import.hpp>
 
 #include <nlohmann/json.hpp>
@@ -25,9 +26,9 @@ nlohmann::json readJson(const fs::path& file, std::string_view what) {
     std::error_code ec;
     if (!fs::is_regular_file(file, ec))
         throw InputError(format("{}: no such file (is {} a {} folder?)", file.string(), file.parent_path().string(), what));
-    std::ifstream in(file);
+    const std::string text = readTextFile(file);
     try {
-        return nlohmann::json::parse(in);
+        return nlohmann::json::parse(text);
     } catch (const nlohmann::json::exception& e) {
         throw InputError(format("{}: not valid JSON ({})", file.string(), e.what()));
     }
@@ -52,10 +53,10 @@ std::vector<float> readFloats(const fs::path& file, int frames, std::int64_t pie
     if (ec || size != count * sizeof(float))
         throw InputError(format("{}: is {} bytes, but {} frames of {} pieces need {}", file.string(), size, frames,
                                 pieces, count * sizeof(float)));
+    const std::vector<std::byte> bytes = readBinaryFile(file);
+    if (bytes.size() != count * sizeof(float)) throw InputError(format("{}: changed while being read", file.string()));
     std::vector<float> values(count);
-    std::ifstream in(file, std::ios::binary);
-    in.read(reinterpret_cast<char*>(values.data()), std::streamsize(count * sizeof(float)));
-    if (!in) throw InputError(format("{}: cannot be read", file.string()));
+    std::memcpy(values.data(), bytes.data(), bytes.size());
     return values;
 }
 

@@ -6,6 +6,10 @@
 #include <dawnforge/core/seed.hpp>
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/exporters/vat.hpp>
+#include <dawnforge/procgen/city.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/rigidbody.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,7 +17,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <map>
+#include <regex>
 #include <set>
+#include <sstream>
 
 using namespace dawnforge;
 using namespace dawnforge::exporters;
@@ -42,6 +48,77 @@ TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
         EXPECT_NE(r.out.find(std::string("\n  ") + cmd + " "), std::string::npos) << cmd;
         EXPECT_EQ(test::runDawnforge({cmd, "--help"}).exitCode, 0) << cmd;
     }
+}
+
+// Each command's options with a default, as `dawnforge COMMAND --help` shows them:
+// "--pieces INT:POSITIVE=50" gives {"--pieces", "50"}.
+std::map<std::string, std::string> helpDefaults(const std::string& command) {
+    const RunResult r = test::runDawnforge({command, "--help"});
+    EXPECT_EQ(r.exitCode, 0) << command;
+    static const std::regex kOption(R"(^\s+(?:-\w,)?(--[\w-]+) [A-Z]+(?::[A-Z]+(?: in \[[^\]]*\])?)?=(\S+))");
+    std::map<std::string, std::string> defaults;
+    std::istringstream lines(r.out);
+    std::smatch m;
+    for (std::string line; std::getline(lines, line);)
+        if (std::regex_search(line, m, kOption)) defaults[m[1].str()] = m[2].str();
+    return defaults;
+}
+
+std::string shown(double v) {  // as CLI11 prints a default
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
+    const sim::FractureSettings f;
+    const sim::SimulationSettings s;
+    const sim::Projectile p;
+    const sim::Explosion e;
+    const exporters::VatSettings v;
+    const procgen::CitySettings c;
+    const runtime::RendererOptions ro;
+    const std::string imageSize = shown(ro.size.x) + "x" + shown(ro.size.y);
+    // Options the command line alone has (no library setting) are listed with their own value.
+    const std::map<std::string, std::map<std::string, std::string>> expected{
+        {"fracture",
+         {{"--pieces", shown(f.pieces)}, {"--seed", shown(double(f.seed))}, {"--radius", shown(f.impactRadius)},
+          {"--levels", shown(f.levels)}, {"--level-pieces", shown(f.levelPieces)}, {"--density", shown(f.density)},
+          {"--interior-material", shown(f.interiorMaterial)}, {"--uv-scale", shown(f.interiorUvScale)},
+          {"--min-volume", shown(f.minVolume)}, {"--roughness", shown(f.roughness)},
+          {"--rough-scale", shown(f.roughScale)}, {"--voxel", shown(f.voxelSize)}, {"--threads", "0"}}},
+        {"simulate",
+         {{"--frames", shown(s.frames)}, {"--fps", shown(s.fps)}, {"--substeps", shown(s.substeps)},
+          {"--iterations", shown(s.solverIterations)}, {"--seed", shown(double(s.seed))},
+          {"--strength", shown(s.strength)}, {"--strength-variation", shown(s.strengthVariation)},
+          {"--friction", shown(s.friction)}, {"--restitution", shown(s.restitution)},
+          {"--hull-vertices", shown(s.hullVertices)}, {"--margin", shown(s.margin)},
+          {"--trigger-time", shown(s.triggerTime)}, {"--projectile-mass", shown(p.mass)},
+          {"--projectile-speed", shown(p.speed)}, {"--projectile-radius", shown(p.radius)},
+          {"--explosion-radius", shown(e.radius)}, {"--explosion-impulse", shown(e.impulse)}, {"--threads", "0"}}},
+        {"vat",
+         {{"--preset", std::string(exporters::vatPresetName(v.preset))}, {"--max-width", shown(v.maxWidth)},
+          {"--name", v.name}}},
+        {"city",
+         {{"--seed", shown(double(c.seed))}, {"--size", shown(c.size.x) + "x" + shown(c.size.y)},
+          {"--tile-size", shown(c.tileSize)}, {"--threads", "0"}}},
+        {"render", {{"--size", imageSize}, {"--repeat", "5"}}},
+        {"view", {{"--size", imageSize}, {"--frames", "0"}}},
+        {"demo", {{"--floors", "8"}, {"--threads", "0"}}},
+        {"inspect", {}},
+    };
+    for (const auto& [command, options] : expected) EXPECT_EQ(helpDefaults(command), options) << command;
+}
+
+TEST(Cli, QuietWorksBeforeAndAfterTheCommand) {
+    TempDir dir;
+    for (const auto& args : {std::vector<std::string>{"-q", "city", "-o", (dir / "a").string(), "--size", "120x100"},
+                             std::vector<std::string>{"city", "-o", (dir / "b").string(), "--size", "120x100", "--quiet"}}) {
+        const RunResult r = test::runDawnforge(args);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_TRUE(r.err.empty()) << r.err;
+    }
+    EXPECT_EQ(test::readBytes(dir / "a" / "city.glb"), test::readBytes(dir / "b" / "city.glb"));
 }
 
 TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
@@ -123,13 +200,15 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
     TempDir dir;
     const RunResult a = test::runDawnforge({"demo", "-o", (dir / "a").string()});
     ASSERT_EQ(a.exitCode, 0) << a.err;
-    EXPECT_NE(a.out.find("scene.glb"), std::string::npos);
-    const RunResult b = test::runDawnforge({"--quiet", "demo", "-o", (dir / "b").string()});
+    EXPECT_NE(a.out.find("fragments.glb"), std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(dir / "a" / "scene.glb"));  // nothing reads it: not written
+    const RunResult b = test::runDawnforge({"demo", "-o", (dir / "b").string(), "--quiet"});
     ASSERT_EQ(b.exitCode, 0) << b.err;
-    const auto glbA = test::readBytes(dir / "a" / "scene.glb");
+    const auto glbA = test::readBytes(dir / "a" / "fracture" / "fragments.glb");
     EXPECT_GT(glbA.size(), 1000u);
-    EXPECT_EQ(glbA, test::readBytes(dir / "b" / "scene.glb"));
-    test::expectValidGltf(dir / "a" / "scene.glb");
+    EXPECT_EQ(glbA, test::readBytes(dir / "b" / "fracture" / "fragments.glb"));
+    EXPECT_EQ(glbA, test::readBytes(dir / "a" / "sim" / "fragments.glb"));  // the simulation folder's own copy
+    test::expectValidGltf(dir / "a" / "fracture" / "fragments.glb");
     // The demo ends with a picture of its scene, the same each time.
     EXPECT_NE(a.out.find("render.png"), std::string::npos);
     const Image picture = readPng(dir / "a" / "render.png");
@@ -209,7 +288,7 @@ TEST(CliFracture, BadInputExits2AndWritesNothing) {
     expectBadInput({"fracture", sphere, "-o", out, "--pieces", "-5"}, "--pieces");
     expectBadInput({"fracture", sphere, "-o", out, "--pieces", "20001"}, "--force");
     expectBadInput({"fracture", sphere, "-o", out, "--impact", "1,2"}, "--impact");
-    expectBadInput({"fracture", sphere, "-o", out, "--levels", "1"}, "--impact");
+    expectBadInput({"fracture", sphere, "-o", out, "--levels", "1"}, "need an impact point");
     expectBadInput({"fracture", sphere, "-o", out, "--interior-material", "16"}, "--interior-material");
     expectBadInput({"fracture", sphere, "-o", out, "--roughness", "-0.1"}, "--roughness");
     expectBadInput({"fracture", test::dataFile("open_box.obj").string(), "-o", out}, "not closed");
@@ -438,12 +517,12 @@ TEST(CliCity, RecipesFromTheExamplesWork) {
 TEST(CliCity, BadOptionsAndRecipesExit2AndWriteNothing) {
     TempDir dir;
     const std::string out = (dir / "out").string();
-    expectBadInput({"city", "-o", out, "--size", "-100x200"}, "--size");
+    expectBadInput({"city", "-o", out, "--size", "-100x200"}, "city size");
     expectBadInput({"city", "-o", out, "--size", "banana"}, "--size");
-    expectBadInput({"city", "-o", out, "--size", "0x0"}, "--size");
-    expectBadInput({"city", "-o", out, "--tile", "9,9"}, "--tile");
+    expectBadInput({"city", "-o", out, "--size", "0x0"}, "city size");
+    expectBadInput({"city", "-o", out, "--tile", "9,9"}, "tile 9,9 is outside the city");
     expectBadInput({"city", "-o", out, "--tile", "a,b"}, "--tile");
-    expectBadInput({"city", "-o", out, "--tile-size", "0"}, "--tile-size");
+    expectBadInput({"city", "-o", out, "--tile-size", "0"}, "tile size");
     expectBadInput({"city", "-o", out, "--recipe", (dir / "missing.json").string()}, "missing.json");
     test::writeText(dir / "unknown.json", R"({"buildings": {"max_flors": 3}})");
     expectBadInput({"city", "-o", out, "--recipe", (dir / "unknown.json").string()}, "buildings.max_flors");

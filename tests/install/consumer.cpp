@@ -1,6 +1,6 @@
 // Uses the installed dawnforge package from outside the project: one real call into each
 // of sim, exporters and runtime, so that the link pulls in their third-party libraries
-// (CGAL, TetGen, OpenVDB and Bullet for sim; tinygltf, OpenEXR and stb for exporters;
+// (CGAL, OpenVDB and Bullet for sim; tinygltf, OpenEXR and stb for exporters; Assimp for core;
 // epoxy, EGL and GLFW for runtime). Exits 0 and prints one line when all is well.
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/scene.hpp>

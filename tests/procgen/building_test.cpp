@@ -2,7 +2,7 @@
 // interior mapping needs, and everything inside the lot.
 #include <dawnforge/core/validate.hpp>
 #include <dawnforge/procgen/building.hpp>
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 
 #include <gtest/gtest.h>
 

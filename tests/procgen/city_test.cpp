@@ -3,7 +3,7 @@
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/procgen/city.hpp>
-#include <dawnforge/procgen/materials.hpp>
+#include <dawnforge/core/materials.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -14,7 +14,7 @@
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/context.hpp>
-#include <dawnforge/runtime/gpu_checks.hpp>
+#include "gpu_checks.hpp"
 #include <dawnforge/runtime/ocean.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 

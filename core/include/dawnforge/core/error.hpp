@@ -19,6 +19,13 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// Bad input that a repair (repairMesh in validate.hpp) may fix: an open, non-manifold or
+// self-intersecting mesh where a closed solid is needed.
+class RepairableMeshError : public InputError {
+public:
+    using InputError::InputError;
+};
+
 // Work stopped on request (a progress callback returned false).
 class Cancelled : public std::runtime_error {
 public:
@@ -27,7 +34,7 @@ public:
 
 [[noreturn]] void assertionFailed(const char* function, const char* message);
 
-// A library's error message (a JSON or EXR parser's) fit for an InputError: on one line,
+// A library's error message (a JSON, OBJ, glTF or EXR parser's) fit for an InputError: on one line,
 // without a leading "[tag] " such as nlohmann's "[json.exception.parse_error.101] ".
 std::string oneLine(std::string message);
 

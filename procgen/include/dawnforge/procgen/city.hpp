@@ -51,7 +51,7 @@ glm::ivec2 tileCount(const CitySettings& settings);
 glm::ivec2 tileOf(const CitySettings& settings, glm::dvec2 p);
 
 // Throws InputError for a bad size, tile size or tile index, or a bad recipe.
-City generateCity(const CitySettings& settings, const ProgressFn& progress = {});
+City generateCity(const CitySettings& settings, const ProgressFn& progress = noProgress);
 
 // What a generated city holds (city.json's "counts", the CLI's summary, the benchmark).
 struct CityCounts {

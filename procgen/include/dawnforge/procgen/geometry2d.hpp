@@ -8,7 +8,10 @@
 #include <glm/geometric.hpp>
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace dawnforge::procgen {
@@ -20,12 +23,28 @@ inline glm::vec3 toWorld(glm::dvec2 p, double h) {
     return {static_cast<float>(p.x), static_cast<float>(h), static_cast<float>(-p.y)};
 }
 
+// The 2D cross product (z of the 3D one): > 0 when b turns counter-clockwise from a.
+inline double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
+// The unit normal on the left of a -> b: it points inside a counter-clockwise polygon.
+inline glm::dvec2 inwardNormal(glm::dvec2 a, glm::dvec2 b) {
+    const glm::dvec2 u = glm::normalize(b - a);
+    return {-u.y, u.x};
+}
+
 double signedArea(std::span<const glm::dvec2> polygon);  // > 0 when counter-clockwise
 glm::dvec2 centroid(std::span<const glm::dvec2> polygon);  // area centroid
 double perimeter(std::span<const glm::dvec2> polygon);
 bool containsPoint(std::span<const glm::dvec2> polygon, glm::dvec2 p);  // even-odd rule
 bool isConvex(std::span<const glm::dvec2> polygon);
+// The first vertex whose corner turns clockwise (beyond rounding); polygon.size() when none.
+std::size_t reflexVertex(std::span<const glm::dvec2> polygon);
 bool isSimple(std::span<const glm::dvec2> polygon);  // no two non-adjacent edges meet
+// A point strictly inside a simple counter-clockwise polygon: the centroid of its largest triangle.
+glm::dvec2 interiorPoint(std::span<const glm::dvec2> polygon);
+// Whether the segments p1-p2 and q1-q2 cross at a point inside both (touching is no crossing).
+bool segmentsCross(glm::dvec2 p1, glm::dvec2 p2, glm::dvec2 q1, glm::dvec2 q2);
+// The point of the segment a-b nearest p.
+glm::dvec2 closestOnSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b);
 // Distance from p to the segment a-b.
 double distanceToSegment(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b);
 // Distance from p to the polygon's boundary.
@@ -33,6 +52,21 @@ double distanceToBoundary(std::span<const glm::dvec2> polygon, glm::dvec2 p);
 
 // The part of a convex polygon where dot(n, p) <= d (Sutherland-Hodgman); may be empty.
 Polygon2 clipHalfPlane(std::span<const glm::dvec2> convex, glm::dvec2 n, double d);
+// The part of a convex polygon where lo <= dot(axis, p) <= hi; may be empty.
+Polygon2 clipStrip(std::span<const glm::dvec2> convex, glm::dvec2 axis, double lo, double hi);
+// Where the line dot(axis, p) = value crosses a convex polygon, as the range of dot(other, p)
+// along it; nullopt when the line misses the polygon or only touches a corner.
+std::optional<std::pair<double, double>> chord(std::span<const glm::dvec2> convex, glm::dvec2 axis, double value,
+                                               glm::dvec2 other);
+// Distance from p along unit `dir` to where the ray leaves a convex polygon; 0 when p is past it.
+double rayExit(std::span<const glm::dvec2> convex, glm::dvec2 p, glm::dvec2 dir);
+// A convex polygon moved inward by `distance` along each edge's normal (outward when
+// negative), corners mitred; `distance` must be small against the edges.
+Polygon2 mitreOffset(std::span<const glm::dvec2> convex, double distance);
+// Drops vertices of a convex polygon, one end of its shortest edge at a time (the end whose
+// loss costs less area; the polygon only shrinks), until every edge is at least `minEdge`
+// long or three vertices are left.
+Polygon2 dropShortEdges(Polygon2 convex, double minEdge);
 // Removes consecutive vertices closer than `epsilon` and vertices whose edges are
 // collinear within `epsilon` (distance of the vertex from its neighbours' chord).
 Polygon2 simplifyPolygon(std::span<const glm::dvec2> polygon, double epsilon = 1e-6);
@@ -56,5 +90,20 @@ struct PolygonFrame {
     glm::dvec2 toFrame(glm::dvec2 p) const { return {glm::dot(p - origin, u), glm::dot(p - origin, v)}; }
 };
 PolygonFrame edgeFrame(std::span<const glm::dvec2> polygon, std::size_t edge);
+
+// The edge i (polygon[i] -> polygon[i + 1]) with the highest score(polygon[i], polygon[i + 1],
+// unit direction); the first of equal scores; 0 when no score is above -infinity. Buildings
+// pick the edge facing a street this way, each with its own rule for "facing".
+template <class Score>
+std::size_t bestEdge(std::span<const glm::dvec2> polygon, Score score) {
+    std::size_t best = 0;
+    double bestScore = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0, n = polygon.size(); i < n; ++i) {
+        const glm::dvec2 a = polygon[i], b = polygon[(i + 1) % n];
+        const double s = score(a, b, glm::normalize(b - a));
+        if (s > bestScore) bestScore = s, best = i;
+    }
+    return best;
+}
 
 }  // namespace dawnforge::procgen

@@ -44,7 +44,7 @@ struct CityPlan {
 // The plan for a whole city of `size` metres. Deterministic in (recipe, seed, size); it does
 // not depend on tiles (a tile takes its part of the whole plan).
 CityPlan planCity(const CityRecipe& recipe, std::uint64_t seed, glm::dvec2 size,
-                  const ProgressFn& progress = {});
+                  const ProgressFn& progress = noProgress);
 
 // The coast's y at x (linear between coastline points); -infinity without a sea.
 double coastY(const CityPlan& plan, double x);

@@ -26,7 +26,6 @@ public:
     virtual ~GlContext() = default;
     // The GL_RENDERER and GL_VERSION strings.
     std::string description() const;
-    virtual bool isWindow() const = 0;
     // Window only: the framebuffer size, presenting the back buffer, and input.
     virtual glm::ivec2 framebufferSize() const { return {0, 0}; }
     virtual void swapBuffers() {}

@@ -1,9 +1,13 @@
 #pragma once
-// The 16 material IDs of generated cities (COLOR_0, id = R + 2G + 4B + 8A). The runtime's
-// atlas has one block per ID in this order.
+// The 16 material IDs of the project, named once: cities are generated with them, fracture
+// gives cut faces one of them, and the runtime's atlas has one block per ID in this order.
+// They travel in COLOR_0 as binary RGBA, id = R + 2G + 4B + 8A (mesh.hpp).
+//
+// The shaders see the same names: cmake/EmbedShaders.cmake turns every "kName = N," line of
+// this enum into "const uint kName = Nu;" in the generated materials.glsl.
 #include <cstdint>
 
-namespace dawnforge::procgen {
+namespace dawnforge {
 
 enum Material : std::uint8_t {
     kAsphalt = 0,
@@ -23,7 +27,8 @@ enum Material : std::uint8_t {
     kSand = 14,         // shore and sea floor
     kRubble = 15,       // fracture cut faces
 };
+inline constexpr int kMaterialCount = 16;
 
-const char* materialName(std::uint8_t id);  // "asphalt", "paving", ...
+const char* materialName(std::uint8_t id);  // "asphalt", "paving", ..., "rubble"; id must be below 16
 
-}  // namespace dawnforge::procgen
+}  // namespace dawnforge

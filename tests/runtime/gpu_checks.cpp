@@ -1,4 +1,4 @@
-#include <dawnforge/runtime/gpu_checks.hpp>
+#include "gpu_checks.hpp"
 
 #include "gl.hpp"
 #include "ocean_gpu.hpp"

@@ -1,0 +1,56 @@
+#include "folders.hpp"
+
+#include <dawnforge/core/atomic_file.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
+#include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/sim/fracture_io.hpp>
+#include <dawnforge/sim/rigidbody_io.hpp>
+
+#include <chrono>
+#include <cstdio>
+
+namespace dawnforge::cli {
+
+procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& dir,
+                                  const CommonOptions& common) {
+    const auto start = std::chrono::steady_clock::now();
+    procgen::City city;
+    {
+        StderrProgress progress = progressFor("city", common);
+        city = procgen::generateCity(settings, progress.callback());
+    }
+    const std::string report = procgen::cityReportJson(city);
+    const procgen::CityCounts counts = procgen::countCity(city);
+    const std::size_t blocks = city.plan.blocks.size();
+    const Scene scene = procgen::takeCityScene(city);
+    ensureOutputDirectory(dir);
+    exporters::writeGlb(scene, dir / "city.glb");
+    writeFileAtomically(dir / "city.json", report);
+
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("generated %s%.0f x %.0f m, seed %llu: %zu blocks, %zu buildings, %zu rooms in %.2f s\n",
+                settings.tile ? format("tile {},{} of ", settings.tile->x, settings.tile->y).c_str() : "",
+                settings.size.x, settings.size.y, static_cast<unsigned long long>(settings.seed), blocks, counts.buildings,
+                counts.rooms, seconds);
+    std::printf("  triangles: LOD0 %zu, LOD1 %zu\n", counts.trianglesLod0, counts.trianglesLod1);
+    std::printf("  wrote %s and %s\n", (dir / "city.glb").string().c_str(), (dir / "city.json").string().c_str());
+    return std::move(city.plan);
+}
+
+void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
+                         const std::string& input, const std::filesystem::path& dir) {
+    ensureOutputDirectory(dir);
+    exporters::writeGlb(sim::fractureScene(result), dir / "fragments.glb");
+    writeFileAtomically(dir / "fracture.json", sim::fractureJson(result, settings, input));
+}
+
+void writeSimulationFolder(const sim::SimulationResult& result, const sim::SimulationSettings& settings,
+                           std::span<const sim::RigidPiece> pieces, const std::filesystem::path& fractureDir,
+                           const std::filesystem::path& dir) {
+    const std::vector<std::byte> fragments = readBinaryFile(fractureDir / "fragments.glb");
+    sim::writeSimulation(dir, result, settings, pieces, fractureDir.string());
+    writeFileAtomically(dir / "fragments.glb", fragments);
+}
+
+}  // namespace dawnforge::cli

@@ -1,0 +1,31 @@
+#pragma once
+// The output folders of the pipeline's stages, written the same way by their commands and
+// by the demo (ARCHITECTURE.md, File formats).
+#include "options.hpp"
+
+#include <dawnforge/procgen/city.hpp>
+#include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/rigidbody.hpp>
+
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace dawnforge::cli {
+
+// Generates a district and writes DIR/city.glb and DIR/city.json, with progress and a
+// summary; returns the district's plan (streets, coast, blocks, lots).
+procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& dir,
+                                  const CommonOptions& common);
+
+// DIR/fragments.glb and DIR/fracture.json; `input` names the mesh in fracture.json.
+void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
+                         const std::string& input, const std::filesystem::path& dir);
+
+// DIR/sim.json, transforms.bin, turns.bin and a copy of FRACTURE_DIR/fragments.glb, so that
+// the folder stands on its own.
+void writeSimulationFolder(const sim::SimulationResult& result, const sim::SimulationSettings& settings,
+                           std::span<const sim::RigidPiece> pieces, const std::filesystem::path& fractureDir,
+                           const std::filesystem::path& dir);
+
+}  // namespace dawnforge::cli

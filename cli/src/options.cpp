@@ -1,0 +1,48 @@
+#include "options.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+
+#include <cmath>
+#include <regex>
+
+namespace dawnforge::cli {
+
+void addThreadsOption(CLI::App& command, CommonOptions& common) {
+    command.add_option("--threads", common.threads, "Worker threads (0: all cores); output does not depend on it")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+}
+
+glm::dvec2 parseSize(const std::string& text, const char* option, const char* unit) {
+    static const std::regex kSize(R"(\s*([-+0-9.eE]+)\s*[xX]\s*([-+0-9.eE]+)\s*)");
+    std::smatch m;
+    if (std::regex_match(text, m, kSize)) {
+        try {
+            std::size_t used1 = 0, used2 = 0;
+            const double w = std::stod(m[1].str(), &used1), h = std::stod(m[2].str(), &used2);
+            if (used1 == m[1].str().size() && used2 == m[2].str().size() && std::isfinite(w) && std::isfinite(h))
+                return {w, h};
+        } catch (const std::exception&) {
+        }
+    }
+    throw InputError(format("{}: expected W x H in {}, e.g. 500x400 (got \"{}\")", option, unit, text));
+}
+
+std::string sizeText(glm::dvec2 size) { return format("{}x{}", size.x, size.y); }
+
+CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::optional<glm::dvec3>& target,
+                            const std::string& description) {
+    return command
+        .add_option_function<std::vector<double>>(
+            name, [&target](const std::vector<double>& v) { target = glm::dvec3(v[0], v[1], v[2]); }, description)
+        ->delimiter(',')
+        ->expected(3)
+        ->type_name("X,Y,Z");
+}
+
+StderrProgress progressFor(const char* label, const CommonOptions& common) {
+    return StderrProgress(label, !common.quiet && stderrIsTerminal());
+}
+
+}  // namespace dawnforge::cli

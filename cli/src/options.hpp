@@ -1,0 +1,35 @@
+#pragma once
+// What every command's options share: the common flags, the one --threads option, the one
+// W x H parser, X,Y,Z points, and progress on stderr.
+#include <dawnforge/core/progress.hpp>
+
+#include <CLI/CLI.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <optional>
+#include <string>
+
+namespace dawnforge::cli {
+
+struct CommonOptions {
+    bool quiet = false;  // no progress on stderr
+    int threads = 0;     // 0: all cores
+};
+
+// The --threads option of a command that runs parallel work.
+void addThreadsOption(CLI::App& command, CommonOptions& common);
+
+// "W x H" (e.g. "1280x720"): two finite numbers separated by x or X. Throws InputError
+// naming `option` and `unit` otherwise.
+glm::dvec2 parseSize(const std::string& text, const char* option, const char* unit);
+std::string sizeText(glm::dvec2 size);  // "500x500", the form parseSize reads
+
+// An "X,Y,Z" option that sets `target` when given.
+CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::optional<glm::dvec3>& target,
+                            const std::string& description);
+
+// Progress on stderr for `label`, shown when stderr is a terminal and --quiet is not given.
+StderrProgress progressFor(const char* label, const CommonOptions& common);
+
+}  // namespace dawnforge::cli
