@@ -8,7 +8,6 @@ include(${CMAKE_CURRENT_LIST_DIR}/dawnforgeDependencies.cmake)
 
 # What only the build uses: the command line, the tests, the benchmarks.
 find_package(CLI11 2.1 REQUIRED)
-find_package(embree 3.13 REQUIRED)  # for bake/, an INTERFACE library until its issue lands
 if(DAWNFORGE_BUILD_TESTS)
   find_package(GTest 1.12 REQUIRED)
 endif()

@@ -187,6 +187,275 @@ bool isRoomGlass(const Mesh& m, std::size_t t) {
 
 std::uint32_t roomOf(const Mesh& m, std::size_t t) { return std::uint32_t(std::lround(m.uv1[m.indices[3 * t]].y)); }
 
+
+// A building's receiver: LOD0 then LOD1, its rooms (one slot per room seen through glass, in
+// order of their index), a lamp in each lit room and the windows the room table looks through.
+void buildingReceiver(const CityBuilding& b, std::uint32_t bi, const BakeSettings& settings, ReceiverData& r,
+                      std::vector<Lamp>& lamps, std::vector<RoomWindow>& windows) {
+    r.name = b.name;
+    r.kind = "building";
+    r.building = b.id;
+    const float texel = float(settings.texel), shellTexel = float(settings.texel * settings.lod1TexelScale);
+    if (!b.lod0Node.empty()) {
+        r.meshes.emplace_back(b.lod0Node, b.lod0.vertexCount());
+        appendMesh(r, b.lod0, texel, float(settings.interiorTexel), true, kSurfaceOffset);
+    }
+    if (!b.lod1Node.empty()) {
+        r.meshes.emplace_back(b.lod1Node, b.lod1.vertexCount());
+        appendMesh(r, b.lod1, shellTexel, shellTexel, b.lod0Node.empty(), b.lod0Node.empty() ? kSurfaceOffset : kShellOffset);
+    }
+    // room index -> lamp estimate sum, count. LOD0's panes place the lamps; LOD1's only for a
+    // room that LOD0 shows no window of (count < 0: estimated from LOD1 panes only).
+    std::map<std::uint32_t, std::pair<glm::dvec3, int>> rooms;
+    const Mesh* lods[2] = {&b.lod0, &b.lod1};
+    for (int lod = 0; lod < 2; ++lod)
+        for (std::size_t t = 0; t < lods[lod]->triangleCount(); ++t) {
+            if (!isRoomGlass(*lods[lod], t)) continue;
+            auto [it, added] = rooms.try_emplace(roomOf(*lods[lod], t), glm::dvec3(0.0), 0);
+            if (lod == 0 || added || it->second.second < 0) {
+                it->second.first += lampFromGlass(*lods[lod], t);
+                it->second.second = lod == 0 ? std::abs(it->second.second) + 1 : it->second.second - 1;
+            }
+        }
+    std::map<std::uint32_t, std::uint32_t> slotOf;
+    for (const auto& [room, lamp] : rooms) {
+        slotOf[room] = std::uint32_t(r.roomIndex.size());
+        r.roomIndex.push_back(room);
+        if (roomLampLit(b.id, room)) lamps.push_back({glm::vec3(lamp.first / double(std::abs(lamp.second))), bi});
+    }
+    r.glassRoom.assign(r.positions.size(), 0);
+    std::uint32_t base = 0;
+    for (const Mesh* m : lods) {
+        for (std::size_t t = 0; t < m->triangleCount(); ++t) {
+            if (!isRoomGlass(*m, t)) continue;
+            const std::uint32_t slot = slotOf[roomOf(*m, t)];
+            const std::uint32_t* idx = &m->indices[3 * t];
+            for (int k = 0; k < 3; ++k) r.glassRoom[base + idx[k]] = slot + 1;
+            const glm::vec3 a = m->positions[idx[0]], bb = m->positions[idx[1]], c = m->positions[idx[2]];
+            const glm::vec3 n = glm::cross(bb - a, c - a);
+            if (glm::length(n) <= 0.0f) continue;
+            windows.push_back({bi, slot, a, bb, c, -glm::normalize(n)});
+        }
+        base += std::uint32_t(m->vertexCount());
+    }
+}
+
+// Every receiver of the city: the buildings, then the other meshes (ground tiles, kerbs).
+struct Receivers {
+    std::vector<ReceiverData> data;
+    std::vector<Lamp> lamps;
+    std::vector<RoomWindow> windows;
+};
+
+Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
+    Receivers out;
+    out.data.resize(city.buildings.size() + city.statics.size());
+    std::vector<std::vector<Lamp>> lamps(city.buildings.size());
+    std::vector<std::vector<RoomWindow>> windows(city.buildings.size());
+    tbb::parallel_for(std::size_t{0}, city.buildings.size(), [&](std::size_t bi) {
+        buildingReceiver(city.buildings[bi], std::uint32_t(bi), settings, out.data[bi], lamps[bi], windows[bi]);
+    });
+    for (std::size_t bi = 0; bi < city.buildings.size(); ++bi) {
+        out.lamps.insert(out.lamps.end(), lamps[bi].begin(), lamps[bi].end());
+        out.windows.insert(out.windows.end(), windows[bi].begin(), windows[bi].end());
+    }
+    tbb::parallel_for(std::size_t{0}, city.statics.size(), [&](std::size_t si) {
+        ReceiverData& r = out.data[city.buildings.size() + si];
+        const CityStatic& s = city.statics[si];
+        r.name = s.name;
+        r.kind = s.name.starts_with("ground_") ? "ground" : "mesh";
+        r.meshes.emplace_back(s.name, s.mesh.vertexCount());
+        appendMesh(r, s.mesh, float(settings.groundTexel), float(settings.groundTexel), true, kSurfaceOffset);
+    });
+    return out;
+}
+
+// Polygons inside solids (caps between storeys, faces buried in walls) get no texels; then
+// every receiver's charts. A polygon too large for a chart at this texel size is a budget error.
+std::size_t chartReceivers(std::vector<ReceiverData>& data, std::span<const ReceiverInput> inputs, const RayScene& scene,
+                           const BakeSettings& settings) {
+    std::size_t hiddenCount = 0;
+    std::vector<std::vector<float>> texels(data.size());
+    for (std::size_t i = 0; i < data.size(); ++i) texels[i] = data[i].texel;
+    const std::vector<std::vector<std::uint8_t>> hidden = hiddenTriangles(scene, inputs, texels, 8, settings.seed);
+    for (std::size_t i = 0; i < data.size(); ++i)
+        for (std::size_t t = 0; t < hidden[i].size(); ++t)
+            if (hidden[i][t]) data[i].texel[t] = 0.0f, ++hiddenCount;
+    std::vector<std::string> errors(data.size());
+    tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
+        ReceiverData& r = data[i];
+        try {
+            r.charts = makeCharts(ChartMesh{r.positions, r.indices, r.texel, r.group});
+        } catch (const InputError& e) {
+            errors[i] = format("{}: {}", r.name, e.what());
+        }
+    });
+    for (const std::string& e : errors)
+        if (!e.empty()) throw BakeBudgetError(e, 0.0);
+    return hiddenCount;
+}
+
+// The memory the bake will need, checked against the budget before anything large is
+// allocated; returns the estimate (MB).
+double checkBudget(const std::vector<ReceiverData>& data, std::size_t glbBytes, const BakeSettings& settings) {
+    double atlasTexels = 0.0, triangles = 0.0;
+    for (const ReceiverData& r : data) {
+        const glm::ivec2 table = roomTableSize(std::uint32_t(r.roomIndex.size()));
+        atlasTexels += 1.12 * double(r.charts.blockTexels + std::size_t(table.x) * std::size_t(table.y));
+        triangles += double(r.indices.size() / 3);
+    }
+    const double fixedMb = (triangles * kBytesPerTriangle + 2.0 * double(glbBytes)) / 1048576.0;
+    const double lightmapMb = atlasTexels * kBytesPerAtlasTexel / 1048576.0;
+    const double estimate = fixedMb + lightmapMb;
+    if (estimate <= settings.memoryBudgetMb) return estimate;
+    const double room = settings.memoryBudgetMb - fixedMb;
+    const double suggested = room > 0.0 ? std::ceil(settings.texel * std::sqrt(lightmapMb / room) * 1.05 * 100.0) / 100.0 : 0.0;
+    throw BakeBudgetError(format("a texel of {} m needs about {} MB to bake this city, more than the budget of {} MB{}",
+                                 settings.texel, std::lround(estimate), std::lround(settings.memoryBudgetMb),
+                                 suggested > 0.0 ? format("; a texel of {} m or larger fits", suggested) : std::string()),
+                          suggested);
+}
+
+// Packs every receiver's atlas (with its room table); window glass points at its room's block.
+void packReceivers(std::vector<ReceiverData>& data, const BakeSettings& settings) {
+    std::vector<std::string> errors(data.size());
+    tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
+        ReceiverData& r = data[i];
+        std::vector<glm::ivec2> extra;
+        if (!r.roomIndex.empty()) extra.push_back(roomTableSize(std::uint32_t(r.roomIndex.size())));
+        try {
+            const ChartMesh mesh{r.positions, r.indices, r.texel, r.group};
+            r.layout = packLightmap(mesh, std::move(r.charts), extra, r.name);
+        } catch (const InputError& e) {
+            errors[i] = e.what();
+            return;
+        }
+        for (std::size_t v = 0; v < r.glassRoom.size(); ++v)
+            if (r.glassRoom[v] > 0) r.layout.uv[v] = glm::vec2(roomTexel(r.layout.extraOrigins[0], r.glassRoom[v] - 1)) + float(kChartAlign) * 0.5f;
+    });
+    for (const std::string& e : errors)
+        if (!e.empty()) throw BakeBudgetError(e, std::ceil(settings.texel * 150.0) / 100.0);
+}
+
+// The proxies of the city (proxies.hpp), with the artists' overrides applied.
+std::vector<ProxyBox> cityProxies(const CityInput& city, const std::string& overrides, const std::filesystem::path& cityDir) {
+    std::vector<ProxyBox> proxies;
+    const auto add = [&](std::vector<ProxyBox> boxes) { proxies.insert(proxies.end(), boxes.begin(), boxes.end()); };
+    for (const CityBuilding& b : city.buildings) add(buildingProxies(b.name, b.lod1.positions.empty() ? b.lod0 : b.lod1));
+    add(streetProxies(city.cityJson, (cityDir / "city.json").string()));
+    for (const CityStatic& s : city.statics) add(groundProxies(s.name, s.mesh));
+    if (!overrides.empty()) applyProxyOverrides(proxies, overrides, (cityDir / "proxy_colours.json").string());
+    return proxies;
+}
+
+OverlookMap cityOverlook(const CityInput& city, const BakeSettings& settings) {
+    std::vector<OverlookMesh> meshes;
+    for (const CityBuilding& b : city.buildings) meshes.push_back({&(b.lod1.positions.empty() ? b.lod0 : b.lod1), true});
+    for (const CityStatic& s : city.statics) meshes.push_back({&s.mesh, false});
+    return bakeOverlook(meshes, settings.overlookTexel);
+}
+
+// bake.json (bake_folder.hpp).
+std::string manifestJson(const CityInput& city, const BakeSettings& settings, const std::vector<ReceiverData>& data,
+                         std::span<const ReceiverInput> inputs, const Lighting& lighting, const BakeReport& report) {
+    nlohmann::ordered_json receivers = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < data.size(); ++i) {
+        const ReceiverData& r = data[i];
+        const ReceiverInput& in = inputs[i];
+        nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
+        for (const auto& [node, vertices] : r.meshes) meshes.push_back({{"node", node}, {"vertices", vertices}});
+        nlohmann::ordered_json j{{"name", r.name}, {"kind", r.kind}};
+        if (r.kind == "building") j["building"] = r.building;
+        j["lightmap"] = r.name + ".png";
+        j["uv"] = r.name + ".uv";
+        j["size"] = {in.layout.size.x, in.layout.size.y};
+        j["meshes"] = std::move(meshes);
+        j["texels"] = lighting.receivers[i].texels;
+        j["rooms"] = in.rooms;
+        if (in.rooms > 0) j["room_table"] = {in.layout.extraOrigins[0].x, in.layout.extraOrigins[0].y};
+        receivers.push_back(std::move(j));
+    }
+    nlohmann::ordered_json manifest;
+    manifest["format"] = "dawnforge.bake";
+    manifest["version"] = 1;
+    manifest["city_glb"] = {{"bytes", city.glb.size()}, {"hash", hashText(hashFileBytes(city.glb))}};
+    manifest["settings"] = {{"texel", settings.texel},           {"interior_texel", settings.interiorTexel},
+                            {"lod1_texel_scale", settings.lod1TexelScale},
+                            {"ground_texel", settings.groundTexel}, {"samples", settings.samples},
+                            {"sun_samples", settings.sunSamples}, {"bounces", settings.bounces},
+                            {"ao_radius", settings.aoRadius},     {"overlook_texel", settings.overlookTexel},
+                            {"seed", settings.seed}};
+    manifest["channels"] = {
+        {"encoding", "stored = round(255 * sqrt(clamp(value / range, 0, 1)))"},
+        {"r", {{"name", "sky"}, {"range", kChannelRange[0]}, {"sky", "uniform radiance 1/pi over the upper hemisphere: 1 on an open horizontal surface"}}},
+        {"g", {{"name", "sun_bounce"}, {"range", kChannelRange[1]}, {"sun", "unit irradiance, averaged over 06:00-18:00"}}},
+        {"b", {{"name", "ao"}, {"range", kChannelRange[2]}, {"radius", settings.aoRadius}}},
+        {"a", {{"name", "lamps"}, {"range", kChannelRange[3]}, {"lamp_intensity", kLampIntensity}, {"lamp_range", kLampRange}}}};
+    manifest["mip_levels"] = kLightmapLevels;
+    manifest["room_table"] = {{"columns", kRoomTableColumns}, {"block", kChartAlign}};
+    manifest["counts"] = {{"receivers", data.size()}, {"buildings", city.buildings.size()}, {"rooms", report.rooms},
+                          {"lamps", report.lamps},    {"texels", report.texels},          {"proxies", report.proxies}};
+    manifest["receivers"] = std::move(receivers);
+    manifest["overlook"] = "overlook.exr";
+    manifest["proxies"] = "proxies.json";
+    return manifest.dump(1) + "\n";
+}
+
+// Writes every file into CITY_DIR/bake.partial-PID, then swaps it in for CITY_DIR/bake: a
+// failure leaves the old bake (or none) and no partial folder.
+void writeBakeFolder(const std::filesystem::path& cityDir, std::span<const ReceiverInput> inputs, const Lighting& lighting,
+                     const OverlookMap& overlook, const std::vector<ProxyBox>& proxies, const std::string& manifest) {
+    namespace fs = std::filesystem;
+    const fs::path target = cityDir / "bake";
+    const fs::path partial = cityDir / format("bake.partial-{}", ::getpid());
+    const fs::path old = cityDir / format("bake.old-{}", ::getpid());
+    struct Cleanup {
+        fs::path dir;
+        ~Cleanup() {
+            std::error_code ec;
+            if (!dir.empty()) fs::remove_all(dir, ec);
+        }
+    } cleanup{partial};
+    std::error_code ec;
+    fs::remove_all(partial, ec);
+    ensureOutputDirectory(partial);
+    std::vector<std::string> errors(inputs.size());
+    tbb::parallel_for(std::size_t{0}, inputs.size(), [&](std::size_t i) {
+        const ReceiverInput& in = inputs[i];
+        const ReceiverLighting& out = lighting.receivers[i];
+        exporters::Image image{in.layout.size.x, in.layout.size.y, {}};
+        image.rgba.resize(out.channels.size());
+        for (std::size_t k = 0; k < out.channels.size(); ++k) image.rgba[k] = encodeChannel(out.channels[k], int(k % 4));
+        std::vector<float> uv;
+        uv.reserve(2 * in.layout.uv.size());
+        for (const glm::vec2& t : in.layout.uv) uv.insert(uv.end(), {t.x / float(in.layout.size.x), t.y / float(in.layout.size.y)});
+        try {
+            exporters::writePng(image, partial / (in.name + ".png"));
+            writeFileAtomically(partial / (in.name + ".uv"), std::as_bytes(std::span(uv)));
+        } catch (const InputError& e) {
+            errors[i] = e.what();
+        }
+    });
+    for (const std::string& e : errors)
+        if (!e.empty()) throw InputError(e);
+    writeOverlook(overlook, partial / "overlook.exr");
+    writeFileAtomically(partial / "proxies.json", proxiesJson(proxies));
+    writeFileAtomically(partial / "bake.json", manifest);
+    if (fs::exists(target)) fs::rename(target, old);
+    fs::rename(partial, target);
+    cleanup.dir = old;
+}
+
+LightingSettings lightingSettings(const BakeSettings& settings) {
+    LightingSettings ls;
+    ls.samples = settings.samples;
+    ls.sunSamples = settings.sunSamples;
+    ls.bounces = settings.bounces;
+    ls.aoRadius = settings.aoRadius;
+    ls.seed = settings.seed;
+    return ls;
+}
+
 }  // namespace
 
 void checkBakeSettings(const BakeSettings& s) {
@@ -210,310 +479,49 @@ BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& se
     const auto start = Clock::now();
     checkBakeSettings(settings);
     BakeReport report;
-    CityInput city = readCity(cityDir);
+    const CityInput city = readCity(cityDir);
     std::string overrides;
     if (fs::exists(cityDir / "proxy_colours.json")) overrides = readTextFile(cityDir / "proxy_colours.json");
     report.loadSeconds = secondsSince(start);
     if (!progress(0.02)) throw Cancelled();
 
-    // ---- Receivers: buildings (LOD0 + LOD1), then the other meshes.
+    // Receivers, the ray scene, charts, the memory budget, then the atlases.
     auto t0 = Clock::now();
-    std::vector<ReceiverData> data(city.buildings.size() + city.statics.size());
-    std::vector<Lamp> lamps;
-    std::vector<RoomWindow> windows;
-    std::vector<std::vector<Lamp>> buildingLamps(city.buildings.size());
-    std::vector<std::vector<RoomWindow>> buildingWindows(city.buildings.size());
-    tbb::parallel_for(std::size_t{0}, city.buildings.size(), [&](std::size_t bi) {
-        const CityBuilding& b = city.buildings[bi];
-        ReceiverData& r = data[bi];
-        r.name = b.name;
-        r.kind = "building";
-        r.building = b.id;
-        const float texel = float(settings.texel), shellTexel = float(settings.texel * settings.lod1TexelScale);
-        if (!b.lod0Node.empty()) {
-            r.meshes.emplace_back(b.lod0Node, b.lod0.vertexCount());
-            appendMesh(r, b.lod0, texel, float(settings.interiorTexel), true, kSurfaceOffset);
-        }
-        if (!b.lod1Node.empty()) {
-            r.meshes.emplace_back(b.lod1Node, b.lod1.vertexCount());
-            appendMesh(r, b.lod1, shellTexel, shellTexel, b.lod0Node.empty(), b.lod0Node.empty() ? kSurfaceOffset : kShellOffset);
-        }
-        // Rooms seen through glass, in order of their index; a lamp per lit room.
-        std::map<std::uint32_t, std::pair<glm::dvec3, int>> rooms;  // room index -> lamp estimate sum, count
-        // LOD0's panes place the lamps; LOD1's only for a room that LOD0 shows no window of.
-        const Mesh* lods[2] = {&b.lod0, &b.lod1};
-        for (int lod = 0; lod < 2; ++lod)
-            for (std::size_t t = 0; t < lods[lod]->triangleCount(); ++t) {
-                if (!isRoomGlass(*lods[lod], t)) continue;
-                auto [it, added] = rooms.try_emplace(roomOf(*lods[lod], t), glm::dvec3(0.0), 0);
-                if (lod == 0 || added || it->second.second < 0) {
-                    it->second.first += lampFromGlass(*lods[lod], t);
-                    it->second.second = lod == 0 ? std::abs(it->second.second) + 1 : it->second.second - 1;
-                }
-            }
-        std::map<std::uint32_t, std::uint32_t> slotOf;
-        for (const auto& [room, lamp] : rooms) {
-            slotOf[room] = std::uint32_t(r.roomIndex.size());
-            r.roomIndex.push_back(room);
-            // count < 0: estimated from LOD1 panes only.
-            if (roomLampLit(b.id, room))
-                buildingLamps[bi].push_back({glm::vec3(lamp.first / double(std::abs(lamp.second))), std::uint32_t(bi)});
-        }
-        r.glassRoom.assign(r.positions.size(), 0);
-        std::uint32_t base = 0;
-        for (const Mesh* m : lods) {
-            for (std::size_t t = 0; t < m->triangleCount(); ++t) {
-                if (!isRoomGlass(*m, t)) continue;
-                const std::uint32_t slot = slotOf[roomOf(*m, t)];
-                const std::uint32_t* idx = &m->indices[3 * t];
-                for (int k = 0; k < 3; ++k) r.glassRoom[base + idx[k]] = slot + 1;
-                const glm::vec3 a = m->positions[idx[0]], bb = m->positions[idx[1]], c = m->positions[idx[2]];
-                const glm::vec3 n = glm::cross(bb - a, c - a);
-                if (glm::length(n) <= 0.0f) continue;
-                buildingWindows[bi].push_back({std::uint32_t(bi), slot, a, bb, c, -glm::normalize(n)});
-            }
-            base += std::uint32_t(m->vertexCount());
-        }
-    });
-    for (std::size_t bi = 0; bi < city.buildings.size(); ++bi) {
-        lamps.insert(lamps.end(), buildingLamps[bi].begin(), buildingLamps[bi].end());
-        windows.insert(windows.end(), buildingWindows[bi].begin(), buildingWindows[bi].end());
-        report.rooms += data[bi].roomIndex.size();
-    }
-    tbb::parallel_for(std::size_t{0}, city.statics.size(), [&](std::size_t si) {
-        ReceiverData& r = data[city.buildings.size() + si];
-        const CityStatic& s = city.statics[si];
-        r.name = s.name;
-        r.kind = s.name.starts_with("ground_") ? "ground" : "mesh";
-        r.meshes.emplace_back(s.name, s.mesh.vertexCount());
-        appendMesh(r, s.mesh, float(settings.groundTexel), float(settings.groundTexel), true, kSurfaceOffset);
-    });
-    // The ray scene, and the polygons inside solids (caps between storeys, faces buried in
-    // walls): they get no texels.
+    Receivers receivers = cityReceivers(city, settings);
+    std::vector<ReceiverData>& data = receivers.data;
+    for (std::size_t bi = 0; bi < city.buildings.size(); ++bi) report.rooms += data[bi].roomIndex.size();
     std::vector<ReceiverInput> inputs(data.size());
     for (std::size_t i = 0; i < data.size(); ++i) {
         const ReceiverData& r = data[i];
         inputs[i] = ReceiverInput{r.name, r.positions, r.indices, r.materials, r.occluder, r.rayOffset, {}, std::uint32_t(r.roomIndex.size())};
     }
     const std::unique_ptr<RayScene> scene = occluderScene(inputs);
-    {
-        std::vector<std::vector<float>> texels(data.size());
-        for (std::size_t i = 0; i < data.size(); ++i) texels[i] = data[i].texel;
-        const std::vector<std::vector<std::uint8_t>> hidden = hiddenTriangles(*scene, inputs, texels, 8, settings.seed);
-        for (std::size_t i = 0; i < data.size(); ++i)
-            for (std::size_t t = 0; t < hidden[i].size(); ++t)
-                if (hidden[i][t]) data[i].texel[t] = 0.0f, ++report.hiddenTriangles;
-    }
-    tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
-        ReceiverData& r = data[i];
-        r.charts = makeCharts(ChartMesh{r.positions, r.indices, r.texel, r.group});
-    });
-
-    if (std::getenv("DAWNFORGE_BAKE_DEBUG")) {
-        double cat[4] = {0, 0, 0, 0}, area[4] = {0, 0, 0, 0};  // lod0 exterior, lod0 interior, lod1, ground
-        for (const ReceiverData& r : data)
-            for (const Chart& c : r.charts.charts) {
-                const std::uint32_t t = c.triangles.front();
-                const std::size_t lod0Tris = r.kind == "building" && !r.meshes.empty() ? r.meshes[0].second : 0;
-                (void)lod0Tris;
-                int k = r.kind != "building" ? 3 : (r.texel[t] > float(settings.texel) * 1.5f ? 2 : (r.materials[t] == kInteriorWall || r.materials[t] == kFloor ? 1 : 0));
-                cat[k] += double(c.size.x) * c.size.y;
-                for (std::uint32_t tt : c.triangles) {
-                    const glm::vec3 a = r.positions[r.indices[3 * tt]], b = r.positions[r.indices[3 * tt + 1]], cc = r.positions[r.indices[3 * tt + 2]];
-                    area[k] += 0.5 * glm::length(glm::cross(b - a, cc - a)) / double(r.texel[tt] * r.texel[tt]);
-                }
-            }
-        std::size_t charts = 0;
-        double bins[6][2] = {};  // block size classes: <=16, <=64, <=256, <=1024, <=4096, more: blocks, area
-        for (const ReceiverData& r : data) {
-            charts += r.charts.charts.size();
-            for (const Chart& c : r.charts.charts) {
-                const double block = double(c.size.x) * c.size.y;
-                double a = 0.0;
-                for (std::uint32_t tt : c.triangles) {
-                    const glm::vec3 p0 = r.positions[r.indices[3 * tt]], p1 = r.positions[r.indices[3 * tt + 1]], p2 = r.positions[r.indices[3 * tt + 2]];
-                    a += 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0)) / double(r.texel[tt] * r.texel[tt]);
-                }
-                if (block > 4096 && a < 0.5 * block && std::getenv("DAWNFORGE_BAKE_DEBUG")[0] == '2')
-                    std::fprintf(stderr, "   %s chart %dx%d area %.0f tris %zu mat %d texel %.2f\n", r.name.c_str(), c.size.x, c.size.y, a, c.triangles.size(),
-                                 int(r.materials[c.triangles.front()]), double(c.texelMetres));
-                if (block <= 64 && std::getenv("DAWNFORGE_BAKE_DEBUG")[0] == '3') {
-                    const glm::vec3 p0 = r.positions[r.indices[3 * c.triangles[0]]], p1 = r.positions[r.indices[3 * c.triangles[0] + 1]], p2 = r.positions[r.indices[3 * c.triangles[0] + 2]];
-                    const glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-                    std::fprintf(stderr, "tiny mat %d n %.0f %.0f %.0f tris %zu area %.2f m2 block %dx%d\n", int(r.materials[c.triangles[0]]), n.x, n.y, n.z, c.triangles.size(), a * double(c.texelMetres * c.texelMetres), c.size.x, c.size.y);
-                }
-                const int bin = block <= 16 ? 0 : block <= 64 ? 1 : block <= 256 ? 2 : block <= 1024 ? 3 : block <= 4096 ? 4 : 5;
-                bins[bin][0] += block, bins[bin][1] += a;
-            }
-        }
-        for (int b = 0; b < 6; ++b) std::fprintf(stderr, "  bin %d: blocks %.2fM area %.2fM\n", b, bins[b][0] / 1e6, bins[b][1] / 1e6);
-        std::fprintf(stderr, "blocks: lod0 ext %.2fM int %.2fM lod1 %.2fM ground %.2fM; area texels %.2fM %.2fM %.2fM %.2fM; charts %zu\n", cat[0] / 1e6, cat[1] / 1e6,
-                     cat[2] / 1e6, cat[3] / 1e6, area[0] / 1e6, area[1] / 1e6, area[2] / 1e6, area[3] / 1e6, charts);
-    }
-    // ---- The memory budget, before anything large is allocated.
-    double atlasTexels = 0.0, triangles = 0.0;
-    for (const ReceiverData& r : data) {
-        const glm::ivec2 table = roomTableSize(std::uint32_t(r.roomIndex.size()));
-        atlasTexels += 1.12 * double(r.charts.blockTexels + std::size_t(table.x) * std::size_t(table.y));
-        triangles += double(r.indices.size() / 3);
-    }
-    const double fixedMb = (triangles * kBytesPerTriangle + 2.0 * double(city.glb.size())) / 1048576.0;
-    const double lightmapMb = atlasTexels * kBytesPerAtlasTexel / 1048576.0;
-    report.estimatedMb = fixedMb + lightmapMb;
-    if (report.estimatedMb > settings.memoryBudgetMb) {
-        const double room = settings.memoryBudgetMb - fixedMb;
-        const double suggested = room > 0.0 ? std::ceil(settings.texel * std::sqrt(lightmapMb / room) * 1.05 * 100.0) / 100.0 : 0.0;
-        throw BakeBudgetError(format("a texel of {} m needs about {} MB to bake this city, more than the budget of {} MB{}",
-                                     settings.texel, std::lround(report.estimatedMb), std::lround(settings.memoryBudgetMb),
-                                     suggested > 0.0 ? format("; a texel of {} m or larger fits", suggested) : std::string()),
-                              suggested);
-    }
-    // ---- Packing.
-    std::vector<std::string> packErrors(data.size());
-    tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
-        ReceiverData& r = data[i];
-        std::vector<glm::ivec2> extra;
-        if (!r.roomIndex.empty()) extra.push_back(roomTableSize(std::uint32_t(r.roomIndex.size())));
-        try {
-            const ChartMesh mesh{r.positions, r.indices, r.texel, r.group};
-            r.layout = packLightmap(mesh, std::move(r.charts), extra, r.name);
-        } catch (const InputError& e) {
-            packErrors[i] = e.what();
-            return;
-        }
-        // Window glass points at its room's block of the room table (the block's centre).
-        for (std::size_t v = 0; v < r.glassRoom.size(); ++v)
-            if (r.glassRoom[v] > 0) r.layout.uv[v] = glm::vec2(roomTexel(r.layout.extraOrigins[0], r.glassRoom[v] - 1)) + float(kChartAlign) * 0.5f;
-    });
-    for (const std::string& e : packErrors)
-        if (!e.empty()) throw BakeBudgetError(e, std::ceil(settings.texel * 150.0) / 100.0);
+    report.hiddenTriangles = chartReceivers(data, inputs, *scene, settings);
+    report.estimatedMb = checkBudget(data, city.glb.size(), settings);
+    packReceivers(data, settings);
     report.layoutSeconds = secondsSince(t0);
 
-    // ---- Lighting.
     t0 = Clock::now();
     for (std::size_t i = 0; i < data.size(); ++i) {
-        ReceiverData& r = data[i];
-        inputs[i].layout = std::move(r.layout);
+        inputs[i].layout = std::move(data[i].layout);
         report.atlasTexels += std::size_t(inputs[i].layout.size.x) * std::size_t(inputs[i].layout.size.y);
-        report.triangles += std::size_t(std::count(r.occluder.begin(), r.occluder.end(), std::uint8_t{1}));
+        report.triangles += std::size_t(std::count(data[i].occluder.begin(), data[i].occluder.end(), std::uint8_t{1}));
     }
-    LightingSettings ls;
-    ls.samples = settings.samples;
-    ls.sunSamples = settings.sunSamples;
-    ls.bounces = settings.bounces;
-    ls.aoRadius = settings.aoRadius;
-    ls.seed = settings.seed;
-    Lighting lighting = bakeLighting(inputs, lamps, windows, ls, [&](double f) { return progress(0.05 + 0.85 * f); }, scene.get());
+    const Lighting lighting = bakeLighting(inputs, receivers.lamps, receivers.windows, lightingSettings(settings),
+                                           [&](double f) { return progress(0.05 + 0.85 * f); }, scene.get());
     report.lighting = lighting.stats;
     report.texels = lighting.stats.texels;
-    report.lamps = lamps.size();
+    report.lamps = receivers.lamps.size();
     report.lightingSeconds = secondsSince(t0);
 
-    // ---- Overlook and proxies.
     t0 = Clock::now();
-    std::vector<OverlookMesh> overlookMeshes;
-    for (const CityBuilding& b : city.buildings) overlookMeshes.push_back({&(b.lod1.positions.empty() ? b.lod0 : b.lod1), true});
-    for (const CityStatic& s : city.statics) overlookMeshes.push_back({&s.mesh, false});
-    const OverlookMap overlook = bakeOverlook(overlookMeshes, settings.overlookTexel);
-    std::vector<ProxyBox> proxies;
-    for (const CityBuilding& b : city.buildings) {
-        std::vector<ProxyBox> boxes = buildingProxies(b.name, b.lod1.positions.empty() ? b.lod0 : b.lod1);
-        proxies.insert(proxies.end(), boxes.begin(), boxes.end());
-    }
-    {
-        std::vector<ProxyBox> streets = streetProxies(city.cityJson, (cityDir / "city.json").string());
-        proxies.insert(proxies.end(), streets.begin(), streets.end());
-    }
-    for (const CityStatic& s : city.statics) {
-        std::vector<ProxyBox> boxes = groundProxies(s.name, s.mesh);
-        proxies.insert(proxies.end(), boxes.begin(), boxes.end());
-    }
-    if (!overrides.empty()) applyProxyOverrides(proxies, overrides, (cityDir / "proxy_colours.json").string());
+    const OverlookMap overlook = cityOverlook(city, settings);
+    const std::vector<ProxyBox> proxies = cityProxies(city, overrides, cityDir);
     report.proxies = proxies.size();
-
-    // ---- Files: a temporary folder, renamed into place at the end.
-    const fs::path target = cityDir / "bake";
-    const fs::path partial = cityDir / format("bake.partial-{}", ::getpid());
-    const fs::path old = cityDir / format("bake.old-{}", ::getpid());
-    struct Cleanup {
-        fs::path dir;
-        ~Cleanup() {
-            std::error_code ec;
-            if (!dir.empty()) fs::remove_all(dir, ec);
-        }
-    } cleanup{partial};
-    std::error_code ec;
-    fs::remove_all(partial, ec);
-    ensureOutputDirectory(partial);
-    nlohmann::ordered_json receivers = nlohmann::ordered_json::array();
-    std::vector<std::string> writeErrors(data.size());
-    tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
-        const ReceiverInput& in = inputs[i];
-        const ReceiverLighting& out = lighting.receivers[i];
-        exporters::Image image{in.layout.size.x, in.layout.size.y, {}};
-        image.rgba.resize(out.channels.size());
-        for (std::size_t k = 0; k < out.channels.size(); ++k) image.rgba[k] = encodeChannel(out.channels[k], int(k % 4));
-        std::vector<float> uv;
-        uv.reserve(2 * in.layout.uv.size());
-        for (const glm::vec2& t : in.layout.uv) uv.insert(uv.end(), {t.x / float(in.layout.size.x), t.y / float(in.layout.size.y)});
-        try {
-            exporters::writePng(image, partial / (in.name + ".png"));
-            writeFileAtomically(partial / (in.name + ".uv"), std::as_bytes(std::span(uv)));
-        } catch (const InputError& e) {
-            writeErrors[i] = e.what();
-        }
-    });
-    for (const std::string& e : writeErrors)
-        if (!e.empty()) throw InputError(e);
-    for (std::size_t i = 0; i < data.size(); ++i) {
-        const ReceiverData& r = data[i];
-        const ReceiverInput& in = inputs[i];
-        nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
-        for (const auto& [node, vertices] : r.meshes) meshes.push_back({{"node", node}, {"vertices", vertices}});
-        nlohmann::ordered_json j{{"name", r.name}, {"kind", r.kind}};
-        if (r.kind == "building") j["building"] = r.building;
-        j["lightmap"] = r.name + ".png";
-        j["uv"] = r.name + ".uv";
-        j["size"] = {in.layout.size.x, in.layout.size.y};
-        j["meshes"] = std::move(meshes);
-        j["texels"] = lighting.receivers[i].texels;
-        j["rooms"] = in.rooms;
-        if (in.rooms > 0) j["room_table"] = {in.layout.extraOrigins[0].x, in.layout.extraOrigins[0].y};
-        receivers.push_back(std::move(j));
-    }
-    writeOverlook(overlook, partial / "overlook.exr");
-    writeFileAtomically(partial / "proxies.json", proxiesJson(proxies));
-    nlohmann::ordered_json manifest;
-    manifest["format"] = "dawnforge.bake";
-    manifest["version"] = 1;
-    manifest["city_glb"] = {{"bytes", city.glb.size()}, {"hash", hashText(hashFileBytes(city.glb))}};
-    manifest["settings"] = {{"texel", settings.texel},           {"interior_texel", settings.interiorTexel},
-                            {"lod1_texel_scale", settings.lod1TexelScale},
-                            {"ground_texel", settings.groundTexel}, {"samples", settings.samples},
-                            {"sun_samples", settings.sunSamples}, {"bounces", settings.bounces},
-                            {"ao_radius", settings.aoRadius},     {"overlook_texel", settings.overlookTexel},
-                            {"seed", settings.seed}};
-    manifest["channels"] = {
-        {"encoding", "stored = round(255 * sqrt(clamp(value / range, 0, 1)))"},
-        {"r", {{"name", "sky"}, {"range", kChannelRange[0]}, {"sky", "uniform radiance 1/pi over the upper hemisphere: 1 on an open horizontal surface"}}},
-        {"g", {{"name", "sun_bounce"}, {"range", kChannelRange[1]}, {"sun", "unit irradiance, averaged over 06:00-18:00"}}},
-        {"b", {{"name", "ao"}, {"range", kChannelRange[2]}, {"radius", settings.aoRadius}}},
-        {"a", {{"name", "lamps"}, {"range", kChannelRange[3]}, {"lamp_intensity", kLampIntensity}, {"lamp_range", kLampRange}}}};
-    manifest["mip_levels"] = kLightmapLevels;
-    manifest["room_table"] = {{"columns", kRoomTableColumns}, {"block", kChartAlign}};
-    manifest["counts"] = {{"receivers", data.size()}, {"buildings", city.buildings.size()}, {"rooms", report.rooms},
-                          {"lamps", lamps.size()},    {"texels", report.texels},          {"proxies", proxies.size()}};
-    manifest["receivers"] = std::move(receivers);
-    manifest["overlook"] = "overlook.exr";
-    manifest["proxies"] = "proxies.json";
-    writeFileAtomically(partial / "bake.json", manifest.dump(1) + "\n");
-    // Swap the new folder in.
-    if (fs::exists(target)) fs::rename(target, old);
-    fs::rename(partial, target);
-    cleanup.dir = old;
-    report.writeSeconds = secondsSince(t0);
     report.buildings = city.buildings.size();
     report.receivers = data.size();
+    writeBakeFolder(cityDir, inputs, lighting, overlook, proxies, manifestJson(city, settings, data, inputs, lighting, report));
+    report.writeSeconds = secondsSince(t0);
     report.seconds = secondsSince(start);
     return report;
 }

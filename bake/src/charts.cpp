@@ -319,42 +319,50 @@ Chart finishChart(std::vector<std::uint32_t> tris, std::vector<glm::dvec2> corne
     return chart;
 }
 
-}  // namespace
 
-ChartSet makeCharts(const ChartMesh& m) {
-    DAWNFORGE_ASSERT(m.indices.size() % 3 == 0, "makeCharts(): three indices per triangle");
-    const std::size_t nt = m.indices.size() / 3;
-    DAWNFORGE_ASSERT(m.texelMetres.size() == nt, "makeCharts(): one texel size per triangle");
-    std::vector<glm::dvec3> normal(nt);
-    std::vector<double> area(nt);
+// Triangle normals (unit, CCW front) and areas.
+struct TriangleFrames {
+    std::vector<glm::dvec3> normal;
+    std::vector<double> area;
+};
+
+TriangleFrames triangleFrames(const ChartMesh& m, std::size_t nt) {
+    TriangleFrames f{std::vector<glm::dvec3>(nt), std::vector<double>(nt)};
     for (std::size_t t = 0; t < nt; ++t) {
         const glm::dvec3 c = glm::cross(at(m, t, 1) - at(m, t, 0), at(m, t, 2) - at(m, t, 0));
-        area[t] = 0.5 * glm::length(c);
-        normal[t] = area[t] > 1e-12 ? c / (2.0 * area[t]) : glm::dvec3(0.0);
+        f.area[t] = 0.5 * glm::length(c);
+        f.normal[t] = f.area[t] > 1e-12 ? c / (2.0 * f.area[t]) : glm::dvec3(0.0);
     }
-    const auto charted = [&](std::size_t t) { return m.texelMetres[t] > 0.0f; };
+    return f;
+}
 
-    // Patches: triangles sharing a vertex index (never split, so each vertex has one UV).
+// Patches: triangles sharing a vertex index (never split, so each vertex has one UV).
+UnionFind patchesOf(const ChartMesh& m, std::size_t nt) {
     UnionFind patches(nt);
     std::vector<std::uint32_t> firstUse(m.positions.size(), kNoTriangle);
     for (std::size_t t = 0; t < nt; ++t) {
-        if (!charted(t)) continue;
+        if (m.texelMetres[t] <= 0.0f) continue;
         for (int k = 0; k < 3; ++k) {
             std::uint32_t& f = firstUse[m.indices[3 * t + std::size_t(k)]];
             if (f == kNoTriangle) f = std::uint32_t(t);
             else patches.unite(f, std::uint32_t(t));
         }
     }
-    // Faces: coplanar patches across welded edges.
-    const std::vector<std::uint32_t> canonical = weld(m.positions);
-    struct Edge {
-        std::uint32_t group, a, b, tri;
-    };
+    return patches;
+}
+
+struct Edge {
+    std::uint32_t group, a, b, tri;
+};
+bool sameEdge(const Edge& x, const Edge& y) { return x.group == y.group && x.a == y.a && x.b == y.b; }
+
+// The welded edges of the charted triangles, sorted so that the triangles of an edge are adjacent.
+std::vector<Edge> sortedEdges(const ChartMesh& m, std::size_t nt, std::span<const std::uint32_t> canonical, const TriangleFrames& tf) {
     const auto groupOf = [&](std::size_t t) { return m.group.empty() ? 0u : std::uint32_t(m.group[t]); };
     std::vector<Edge> edges;
     edges.reserve(3 * nt);
     for (std::size_t t = 0; t < nt; ++t) {
-        if (!charted(t) || area[t] <= 1e-12) continue;
+        if (m.texelMetres[t] <= 0.0f || tf.area[t] <= 1e-12) continue;
         for (int k = 0; k < 3; ++k) {
             std::uint32_t a = canonical[m.indices[3 * t + std::size_t(k)]], b = canonical[m.indices[3 * t + std::size_t((k + 1) % 3)]];
             if (a == b) continue;
@@ -364,11 +372,16 @@ ChartSet makeCharts(const ChartMesh& m) {
     }
     std::sort(edges.begin(), edges.end(),
               [](const Edge& x, const Edge& y) { return std::tie(x.group, x.a, x.b, x.tri) < std::tie(y.group, y.a, y.b, y.tri); });
-    const auto sameEdge = [](const Edge& x, const Edge& y) { return x.group == y.group && x.a == y.a && x.b == y.b; };
+    return edges;
+}
+
+// Faces: coplanar patches across welded edges; faceOf[t] = its face.
+std::vector<Face> planarFaces(const ChartMesh& m, std::size_t nt, const std::vector<Edge>& edges, const UnionFind& patches,
+                              const TriangleFrames& tf, std::vector<std::int32_t>& faceOf) {
     UnionFind uf = patches;
     const auto coplanar = [&](std::uint32_t s, std::uint32_t t) {
-        return m.texelMetres[s] == m.texelMetres[t] && glm::dot(normal[s], normal[t]) >= kCoplanarCos &&
-               std::abs(glm::dot(normal[s], at(m, t, 0) - at(m, s, 0))) <= kCoplanarOffset;
+        return m.texelMetres[s] == m.texelMetres[t] && glm::dot(tf.normal[s], tf.normal[t]) >= kCoplanarCos &&
+               std::abs(glm::dot(tf.normal[s], at(m, t, 0) - at(m, s, 0))) <= kCoplanarOffset;
     };
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
@@ -379,9 +392,10 @@ ChartSet makeCharts(const ChartMesh& m) {
         i = j;
     }
     std::vector<Face> faces;
-    std::vector<std::int32_t> faceOf(nt, -1), faceOfRoot(nt, -1);
+    std::vector<std::int32_t> faceOfRoot(nt, -1);
+    faceOf.assign(nt, -1);
     for (std::size_t t = 0; t < nt; ++t) {
-        if (!charted(t)) continue;
+        if (m.texelMetres[t] <= 0.0f) continue;
         const std::uint32_t r = uf.find(std::uint32_t(t));
         if (faceOfRoot[r] < 0) {
             faceOfRoot[r] = std::int32_t(faces.size());
@@ -390,56 +404,62 @@ ChartSet makeCharts(const ChartMesh& m) {
         }
         Face& f = faces[std::size_t(faceOfRoot[r])];
         f.triangles.push_back(std::uint32_t(t));
-        f.normal += area[t] * normal[t];
-        f.area += area[t];
+        f.normal += tf.area[t] * tf.normal[t];
+        f.area += tf.area[t];
         f.texel = std::min(f.texel, double(m.texelMetres[t]));
         faceOf[t] = faceOfRoot[r];
     }
     for (Face& f : faces) f.normal = glm::length(f.normal) > 1e-15 ? glm::normalize(f.normal) : glm::dvec3(0, 1, 0);
-    // A face that fills little of its rectangle (a ring: a wall's cap around a footprint) goes back
-    // to its patches, which then unfold one by one onto their neighbours.
-    {
-        std::vector<Face> kept;
-        for (Face& f : faces) {
-            glm::dvec3 e1, e2;
-            planeAxes(f.normal, e1, e2);
-            std::vector<glm::dvec2> pts;
-            for (std::uint32_t t : f.triangles)
-                for (int k = 0; k < 3; ++k) pts.emplace_back(glm::dot(at(m, t, k), e1), glm::dot(at(m, t, k), e2));
-            const std::vector<glm::dvec2> hull = convexHull(pts);
-            const double angle = minAreaRectAngle(hull);
-            const double c = std::cos(angle), sn = std::sin(angle);
-            glm::dvec2 lo(INFINITY), hi(-INFINITY);
-            for (const glm::dvec2& p : hull) {
-                const glm::dvec2 q(c * p.x + sn * p.y, -sn * p.x + c * p.y);
-                lo = glm::min(lo, q), hi = glm::max(hi, q);
-            }
-            const double rect = (hi.x - lo.x + 2.0 * f.texel) * (hi.y - lo.y + 2.0 * f.texel);
-            if (f.area >= kMinChartFill * rect) {
-                kept.push_back(std::move(f));
-                continue;
-            }
-            std::map<std::uint32_t, Face> parts;
-            for (std::uint32_t t : f.triangles) {
-                Face& p = parts[patches.find(t)];
-                p.triangles.push_back(t);
-                p.normal = f.normal;
-                p.area += area[t];
-                p.texel = f.texel;
-            }
-            for (auto& [root, p] : parts) kept.push_back(std::move(p));
+    return faces;
+}
+
+// A face that fills little of its rectangle (a ring: a wall's cap around a footprint) goes back
+// to its patches, which then unfold one by one onto their neighbours.
+void splitSparseFaces(const ChartMesh& m, std::vector<Face>& faces, UnionFind& patches, const TriangleFrames& tf,
+                      std::vector<std::int32_t>& faceOf) {
+    std::vector<Face> kept;
+    for (Face& f : faces) {
+        glm::dvec3 e1, e2;
+        planeAxes(f.normal, e1, e2);
+        std::vector<glm::dvec2> pts;
+        for (std::uint32_t t : f.triangles)
+            for (int k = 0; k < 3; ++k) pts.emplace_back(glm::dot(at(m, t, k), e1), glm::dot(at(m, t, k), e2));
+        const std::vector<glm::dvec2> hull = convexHull(pts);
+        const double angle = minAreaRectAngle(hull);
+        const double c = std::cos(angle), sn = std::sin(angle);
+        glm::dvec2 lo(INFINITY), hi(-INFINITY);
+        for (const glm::dvec2& p : hull) {
+            const glm::dvec2 q(c * p.x + sn * p.y, -sn * p.x + c * p.y);
+            lo = glm::min(lo, q), hi = glm::max(hi, q);
         }
-        std::sort(kept.begin(), kept.end(), [](const Face& a, const Face& b) { return a.triangles.front() < b.triangles.front(); });
-        faces = std::move(kept);
-        for (std::size_t fi = 0; fi < faces.size(); ++fi)
-            for (std::uint32_t t : faces[fi].triangles) faceOf[t] = std::int32_t(fi);
+        const double rect = (hi.x - lo.x + 2.0 * f.texel) * (hi.y - lo.y + 2.0 * f.texel);
+        if (f.area >= kMinChartFill * rect) {
+            kept.push_back(std::move(f));
+            continue;
+        }
+        std::map<std::uint32_t, Face> parts;
+        for (std::uint32_t t : f.triangles) {
+            Face& p = parts[patches.find(t)];
+            p.triangles.push_back(t);
+            p.normal = f.normal;
+            p.area += tf.area[t];
+            p.texel = f.texel;
+        }
+        for (auto& [root, p] : parts) kept.push_back(std::move(p));
     }
-    // Faces meeting along an edge, both ways, sorted.
+    std::sort(kept.begin(), kept.end(), [](const Face& a, const Face& b) { return a.triangles.front() < b.triangles.front(); });
+    faces = std::move(kept);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi)
+        for (std::uint32_t t : faces[fi].triangles) faceOf[t] = std::int32_t(fi);
+}
+
+// Faces meeting along a manifold edge, both ways, sorted, one entry per pair.
+std::vector<Adjacency> faceAdjacency(const std::vector<Edge>& edges, const std::vector<std::int32_t>& faceOf) {
     std::vector<Adjacency> adjacency;
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && sameEdge(edges[j], edges[i])) ++j;
-        if (j - i == 2) {  // a manifold edge between two faces
+        if (j - i == 2) {
             const std::uint32_t f = std::uint32_t(faceOf[edges[i].tri]), g = std::uint32_t(faceOf[edges[i + 1].tri]);
             if (f != g) {
                 adjacency.push_back({f, g, edges[i].a, edges[i].b});
@@ -454,10 +474,13 @@ ChartSet makeCharts(const ChartMesh& m) {
     adjacency.erase(std::unique(adjacency.begin(), adjacency.end(),
                                 [](const Adjacency& x, const Adjacency& y) { return x.face == y.face && x.other == y.other; }),
                     adjacency.end());
+    return adjacency;
+}
 
-    ChartSet set;
-    set.chartOf.assign(nt, -1);
-    // Faces larger than a chart: cut into cells of patches, each its own chart.
+// Faces larger than a chart: cut into cells of patches, each its own chart (appended to
+// `charts`); returns which faces were cut. Throws InputError for one polygon larger than a chart.
+std::vector<std::uint8_t> cutOversizeFaces(const ChartMesh& m, const std::vector<Face>& faces, UnionFind& patches,
+                                           std::vector<Chart>& charts) {
     std::vector<std::uint8_t> oversize(faces.size(), 0);
     for (std::size_t fi = 0; fi < faces.size(); ++fi) {
         const Face& f = faces[fi];
@@ -492,17 +515,37 @@ ChartSet makeCharts(const ChartMesh& m) {
             if (c.size.x > kMaxChartTexels + 4 * kChartAlign || c.size.y > kMaxChartTexels + 4 * kChartAlign)
                 throw InputError(format("a polygon spans {} x {} texels of {} m, more than a lightmap chart can hold ({})",
                                         c.size.x, c.size.y, f.texel, kMaxChartTexels));
-            set.charts.push_back(std::move(c));
+            charts.push_back(std::move(c));
         }
     }
-    // Everything else grows by unfolding, largest faces first.
+    return oversize;
+}
+
+}  // namespace
+
+ChartSet makeCharts(const ChartMesh& m) {
+    DAWNFORGE_ASSERT(m.indices.size() % 3 == 0, "makeCharts(): three indices per triangle");
+    const std::size_t nt = m.indices.size() / 3;
+    DAWNFORGE_ASSERT(m.texelMetres.size() == nt, "makeCharts(): one texel size per triangle");
+    const TriangleFrames tf = triangleFrames(m, nt);
+    UnionFind patches = patchesOf(m, nt);
+    const std::vector<std::uint32_t> canonical = weld(m.positions);
+    const std::vector<Edge> edges = sortedEdges(m, nt, canonical, tf);
+    std::vector<std::int32_t> faceOf;
+    std::vector<Face> faces = planarFaces(m, nt, edges, patches, tf, faceOf);
+    splitSparseFaces(m, faces, patches, tf, faceOf);
+    const std::vector<Adjacency> adjacency = faceAdjacency(edges, faceOf);
+
+    ChartSet set;
+    set.chartOf.assign(nt, -1);
+    const std::vector<std::uint8_t> oversize = cutOversizeFaces(m, faces, patches, set.charts);
+    // Everything else grows by unfolding, largest faces first; oversized faces never join a chart.
     std::vector<std::uint32_t> order;
     for (std::uint32_t fi = 0; fi < faces.size(); ++fi)
         if (!oversize[fi]) order.push_back(fi);
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
         return faces[a].area != faces[b].area ? faces[a].area > faces[b].area : a < b;
     });
-    // Oversized faces never join a chart: mark them placed.
     std::vector<Adjacency> growable;
     for (const Adjacency& a : adjacency)
         if (!oversize[a.face] && !oversize[a.other]) growable.push_back(a);

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <limits>
+#include <numeric>
 #include <tuple>
 #include <cmath>
 
@@ -373,139 +374,226 @@ std::vector<std::vector<std::uint8_t>> hiddenTriangles(const RayScene& scene, st
     return hidden;
 }
 
-Lighting bakeLighting(std::span<const ReceiverInput> inputs, std::span<const Lamp> lamps, std::span<const RoomWindow> windows,
-                      const LightingSettings& settings, const ProgressFn& progress, const RayScene* prebuilt) {
-    DAWNFORGE_ASSERT(settings.samples > 0 && settings.sunSamples > 0 && settings.bounces >= 0 && settings.roomSamples > 0,
-                     "bakeLighting(): sample counts must be positive");
-    Lighting out;
-    std::atomic<std::size_t> rayCount{0};
+namespace {
 
-    // ---- Receivers: texel samples, triangle data, the ray scene.
-    std::vector<ReceiverState> state(inputs.size());
-    std::vector<RayGeometry> geometries(inputs.size());
-    tbb::parallel_for(std::size_t{0}, inputs.size(), [&](std::size_t r) {
-        const ReceiverInput& in = inputs[r];
-        ReceiverState& s = state[r];
-        s.in = &in;
-        s.size = in.layout.size;
-        const std::size_t nt = in.indices.size() / 3;
-        DAWNFORGE_ASSERT(in.materials.size() == nt && in.occluder.size() == nt && in.rayOffset.size() == nt,
-                         "bakeLighting(): one material, occluder flag and ray offset per triangle");
-        s.samples = sampleTexels(ChartMesh{in.positions, in.indices, {}}, in.layout);
-        s.owners = blockOwners(in.layout);
-        // Bounce light is smooth: gather it at every other texel of each chart (even offsets from
-        // the block's corner) and interpolate the rest; a chart with no such texel gathers at all.
-        std::vector<std::uint8_t> chartHasCoarse(in.layout.charts.size(), 0);
-        const auto isCoarse = [&](std::uint32_t texel) {
-            const std::int32_t c = s.owners[texel];
-            if (c < 0 || c >= std::int32_t(in.layout.charts.size())) return true;
-            const glm::ivec2 o = in.layout.charts[std::size_t(c)].origin;
-            const int x = int(texel % std::uint32_t(s.size.x)), y = int(texel / std::uint32_t(s.size.x));
-            return (x - o.x) % 2 == 0 && (y - o.y) % 2 == 0;
-        };
-        for (const TexelSample& ts : s.samples)
-            if (isCoarse(ts.texel) && s.owners[ts.texel] >= 0 && s.owners[ts.texel] < std::int32_t(chartHasCoarse.size()))
-                chartHasCoarse[std::size_t(s.owners[ts.texel])] = 1;
-        for (std::uint32_t i = 0; i < s.samples.size(); ++i) {
-            const std::int32_t c = s.owners[s.samples[i].texel];
-            const bool lone = c >= 0 && c < std::int32_t(chartHasCoarse.size()) && !chartHasCoarse[std::size_t(c)];
-            if (lone || isCoarse(s.samples[i].texel)) s.coarse.push_back(i);
+// Texel samples, coarse (bounce) samples, triangle data and buffers of one receiver.
+void prepareReceiver(const ReceiverInput& in, const LightingSettings& settings, ReceiverState& s) {
+    s.in = &in;
+    s.size = in.layout.size;
+    const std::size_t nt = in.indices.size() / 3;
+    DAWNFORGE_ASSERT(in.materials.size() == nt && in.occluder.size() == nt && in.rayOffset.size() == nt,
+                     "bakeLighting(): one material, occluder flag and ray offset per triangle");
+    s.samples = sampleTexels(ChartMesh{in.positions, in.indices, {}}, in.layout);
+    s.owners = blockOwners(in.layout);
+    // Bounce light is smooth: gather it at every other texel of each chart (even offsets from
+    // the block's corner) and interpolate the rest; a chart with no such texel gathers at all.
+    std::vector<std::uint8_t> chartHasCoarse(in.layout.charts.size(), 0);
+    const auto isCoarse = [&](std::uint32_t texel) {
+        const std::int32_t c = s.owners[texel];
+        if (c < 0 || c >= std::int32_t(in.layout.charts.size())) return true;
+        const glm::ivec2 o = in.layout.charts[std::size_t(c)].origin;
+        const int x = int(texel % std::uint32_t(s.size.x)), y = int(texel / std::uint32_t(s.size.x));
+        return (x - o.x) % 2 == 0 && (y - o.y) % 2 == 0;
+    };
+    for (const TexelSample& ts : s.samples)
+        if (isCoarse(ts.texel) && s.owners[ts.texel] >= 0 && s.owners[ts.texel] < std::int32_t(chartHasCoarse.size()))
+            chartHasCoarse[std::size_t(s.owners[ts.texel])] = 1;
+    for (std::uint32_t i = 0; i < s.samples.size(); ++i) {
+        const std::int32_t c = s.owners[s.samples[i].texel];
+        const bool lone = c >= 0 && c < std::int32_t(chartHasCoarse.size()) && !chartHasCoarse[std::size_t(c)];
+        if (lone || isCoarse(s.samples[i].texel)) s.coarse.push_back(i);
+    }
+    s.normal.resize(nt);
+    s.albedo.resize(nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+        const glm::vec3 a = in.positions[in.indices[3 * t]], b = in.positions[in.indices[3 * t + 1]], c = in.positions[in.indices[3 * t + 2]];
+        const glm::vec3 cr = glm::cross(b - a, c - a);
+        const float len = glm::length(cr);
+        s.normal[t] = len > 0.0f ? cr / len : glm::vec3(0.0f, 1.0f, 0.0f);
+        s.albedo[t] = settings.albedo[in.materials[t] & 15u];
+        if (in.occluder[t]) {
+            s.rayTriangle.push_back(std::uint32_t(t));
+            s.occluders.insert(s.occluders.end(), {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]});
         }
-        s.normal.resize(nt);
-        s.albedo.resize(nt);
-        for (std::size_t t = 0; t < nt; ++t) {
-            const glm::vec3 a = in.positions[in.indices[3 * t]], b = in.positions[in.indices[3 * t + 1]],
-                            c = in.positions[in.indices[3 * t + 2]];
-            const glm::vec3 cr = glm::cross(b - a, c - a);
-            const float len = glm::length(cr);
-            s.normal[t] = len > 0.0f ? cr / len : glm::vec3(0.0f, 1.0f, 0.0f);
-            s.albedo[t] = settings.albedo[in.materials[t] & 15u];
-            if (in.occluder[t]) {
-                s.rayTriangle.push_back(std::uint32_t(t));
-                s.occluders.insert(s.occluders.end(), {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]});
+    }
+    const std::size_t n = s.texelCount();
+    s.valid.assign(n, 0);
+    s.direct.assign(3 * n, 0.0f);
+    s.ao.assign(n, 1.0f);
+    s.bounced.assign(3 * n, 0.0f);
+}
+
+// Fills the texels between the coarse ones a bounce gathered at (weighted 3×3 neighbours of
+// the same block), then dilates.
+void interpolateBounce(ReceiverState& s) {
+    std::vector<std::uint8_t> gathered(s.texelCount(), 0);
+    for (std::uint32_t i : s.coarse) gathered[s.samples[i].texel] = s.valid[s.samples[i].texel];
+    std::vector<std::uint8_t> filled = gathered;
+    const int w = s.size.x, h = s.size.y;
+    for (const TexelSample& ts : s.samples) {
+        if (gathered[ts.texel] || !s.valid[ts.texel]) continue;
+        const int x = int(ts.texel % std::uint32_t(w)), y = int(ts.texel / std::uint32_t(w));
+        glm::vec3 sum(0.0f);
+        float weight = 0.0f;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                const std::size_t j = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
+                if (!gathered[j] || s.owners[j] != s.owners[ts.texel]) continue;
+                const float wgt = float((2 - std::abs(dx)) * (2 - std::abs(dy)));
+                sum += wgt * glm::vec3(s.next[3 * j], s.next[3 * j + 1], s.next[3 * j + 2]);
+                weight += wgt;
+            }
+        if (weight <= 0.0f) continue;
+        sum /= weight;
+        for (int c = 0; c < 3; ++c) s.next[3 * std::size_t(ts.texel) + std::size_t(c)] = sum[c];
+        filled[ts.texel] = 1;
+    }
+    dilate(s.next, 3, filled, s.owners, s.size, std::vector<float>{0.0f, 0.0f, 0.0f});
+}
+
+// The four channels of a receiver, and its room table.
+void packChannels(const ReceiverState& s, ReceiverLighting& o) {
+    const std::size_t n = s.texelCount();
+    o.channels.assign(4 * n, 0.0f);
+    for (std::size_t i = 0; i < n; ++i) {
+        o.channels[4 * i] = s.direct[3 * i] + s.bounced[3 * i];
+        o.channels[4 * i + 1] = s.bounced[3 * i + 1];
+        o.channels[4 * i + 2] = s.ao[i];
+        o.channels[4 * i + 3] = s.direct[3 * i + 2] + s.bounced[3 * i + 2];
+    }
+    if (s.in->rooms > 0) {
+        DAWNFORGE_ASSERT(!s.in->layout.extraOrigins.empty(), "bakeLighting(): a receiver with rooms needs its room table block");
+        for (std::uint32_t slot = 0; slot < s.in->rooms; ++slot) {
+            const glm::ivec2 at = roomTexel(s.in->layout.extraOrigins[0], slot);
+            const glm::vec3 v = o.rooms[slot];
+            for (int dy = 0; dy < kChartAlign; ++dy)
+                for (int dx = 0; dx < kChartAlign; ++dx) {
+                    const std::size_t i = std::size_t(at.y + dy) * std::size_t(s.size.x) + std::size_t(at.x + dx);
+                    o.channels[4 * i] = v.x, o.channels[4 * i + 1] = v.y, o.channels[4 * i + 2] = 1.0f, o.channels[4 * i + 3] = v.z;
+                }
+        }
+    }
+    o.texels = s.samples.size();
+    for (const TexelSample& ts : s.samples) o.invalid += !s.valid[ts.texel];
+}
+
+// One bakeLighting() call: the passes share the receivers' state, the ray scene and the
+// per-thread scratch buffers.
+class LightingBaker {
+public:
+    LightingBaker(std::span<const ReceiverInput> inputs, std::span<const Lamp> lamps, std::span<const RoomWindow> windows,
+                  const LightingSettings& settings, const ProgressFn& progress, const RayScene* prebuilt)
+        : inputs_(inputs), lamps_(lamps), windows_(windows), settings_(settings), progress_(progress),
+          state_(inputs.size()), S_(std::uint32_t(settings.samples)), directions_(cosineSet(S_)) {
+        tbb::parallel_for(std::size_t{0}, inputs.size(), [&](std::size_t r) { prepareReceiver(inputs[r], settings, state_[r]); });
+        std::vector<RayGeometry> geometries(inputs.size());
+        for (std::size_t r = 0; r < inputs.size(); ++r) geometries[r] = RayGeometry{inputs[r].positions, state_[r].occluders, 1u};
+        for (std::size_t l = 0; l < lamps.size(); ++l) {
+            DAWNFORGE_ASSERT(lamps[l].receiver < inputs.size(), "bakeLighting(): a lamp's receiver is out of range");
+            state_[lamps[l].receiver].lamps.push_back(std::uint32_t(l));
+        }
+        if (!prebuilt) own_ = std::make_unique<RayScene>(geometries);
+        scene_ = prebuilt ? prebuilt : own_.get();
+        DAWNFORGE_ASSERT(scene_->geometryCount() == inputs.size(), "bakeLighting(): the scene must hold one geometry per receiver");
+        for (std::uint32_t r = 0; r < state_.size(); ++r) {
+            out_.stats.texels += state_[r].samples.size();
+            for (std::size_t f = 0; f < state_[r].samples.size(); f += kChunkTexels)
+                chunks_.push_back({r, std::uint32_t(f), std::uint32_t(std::min(kChunkTexels, state_[r].samples.size() - f))});
+            for (std::size_t f = 0; f < state_[r].coarse.size(); f += kChunkTexels)
+                coarseChunks_.push_back({r, std::uint32_t(f), std::uint32_t(std::min(kChunkTexels, state_[r].coarse.size() - f))});
+        }
+    }
+
+    Lighting run() {
+        const double passes = double(2 + settings_.bounces);
+        auto t0 = Clock::now();
+        forChunks(chunks_, progress_, 0.0, 1.0 / passes, [&](const Chunk& chunk) { directChunk(chunk); });
+        out_.stats.raySeconds += secondsSince(t0);
+        dilateAll(&ReceiverState::direct, 3, {0.0f, 0.0f, 0.0f});
+        dilateAll(&ReceiverState::ao, 1, {1.0f});
+        for (int bounce = 1; bounce <= settings_.bounces; ++bounce) {
+            for (ReceiverState& s : state_) s.next.assign(3 * s.texelCount(), 0.0f);
+            t0 = Clock::now();
+            forChunks(coarseChunks_, progress_, double(bounce) / passes, double(bounce + 1) / passes,
+                      [&](const Chunk& chunk) { bounceChunk(chunk, bounce); });
+            out_.stats.raySeconds += secondsSince(t0);
+            const auto t1 = Clock::now();
+            tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t r) { interpolateBounce(state_[r]); });
+            out_.stats.dilateSeconds += secondsSince(t1);
+            for (ReceiverState& s : state_) {
+                for (std::size_t i = 0; i < s.bounced.size(); ++i) s.bounced[i] += s.next[i];
+                s.previous.swap(s.next);
             }
         }
-        const std::size_t n = s.texelCount();
-        s.valid.assign(n, 0);
-        s.direct.assign(3 * n, 0.0f);
-        s.ao.assign(n, 1.0f);
-        s.bounced.assign(3 * n, 0.0f);
-    });
-    for (std::size_t r = 0; r < inputs.size(); ++r) geometries[r] = RayGeometry{inputs[r].positions, state[r].occluders, 1u};
-    for (std::size_t l = 0; l < lamps.size(); ++l) {
-        DAWNFORGE_ASSERT(lamps[l].receiver < inputs.size(), "bakeLighting(): a lamp's receiver is out of range");
-        state[lamps[l].receiver].lamps.push_back(std::uint32_t(l));
+        for (ReceiverState& s : state_) {
+            std::vector<float>().swap(s.previous);
+            std::vector<float>().swap(s.next);
+        }
+        out_.receivers.resize(inputs_.size());
+        for (std::size_t r = 0; r < inputs_.size(); ++r) out_.receivers[r].rooms.assign(inputs_[r].rooms, glm::vec3(0.0f));
+        t0 = Clock::now();
+        roomTable();
+        out_.stats.raySeconds += secondsSince(t0);
+        tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t r) { packChannels(state_[r], out_.receivers[r]); });
+        out_.stats.rays = rayCount_.load();
+        return std::move(out_);
     }
-    std::unique_ptr<RayScene> own;
-    if (!prebuilt) own = std::make_unique<RayScene>(geometries);
-    const RayScene& scene = prebuilt ? *prebuilt : *own;
-    DAWNFORGE_ASSERT(scene.geometryCount() == inputs.size(), "bakeLighting(): the scene must hold one geometry per receiver");
 
-    std::vector<Chunk> chunks, coarseChunks;
-    for (std::uint32_t r = 0; r < state.size(); ++r) {
-        out.stats.texels += state[r].samples.size();
-        for (std::size_t f = 0; f < state[r].samples.size(); f += kChunkTexels)
-            chunks.push_back({r, std::uint32_t(f), std::uint32_t(std::min(kChunkTexels, state[r].samples.size() - f))});
-        for (std::size_t f = 0; f < state[r].coarse.size(); f += kChunkTexels)
-            coarseChunks.push_back({r, std::uint32_t(f), std::uint32_t(std::min(kChunkTexels, state[r].coarse.size() - f))});
-    }
-    const double passes = double(2 + settings.bounces);
-    tbb::enumerable_thread_specific<Scratch> scratch;
-    const std::uint32_t S = std::uint32_t(settings.samples), K = std::uint32_t(settings.sunSamples);
-    const float aoRadius = float(settings.aoRadius);
-    const std::vector<glm::vec3> directions = cosineSet(S);
-
+private:
     // S cosine rays from each texel of the chunk (samples `index(i)`), traced into sc.hits.
-    const auto hemisphere = [&](const Chunk& chunk, std::uint64_t pass, Scratch& sc, auto&& index) {
-        const ReceiverState& s = state[chunk.receiver];
-        sc.rays.resize(std::size_t(chunk.count) * S);
+    template <typename Index>
+    void hemisphere(const Chunk& chunk, std::uint64_t pass, Scratch& sc, Index&& index) const {
+        const ReceiverState& s = state_[chunk.receiver];
+        sc.rays.resize(std::size_t(chunk.count) * S_);
         sc.hits.resize(sc.rays.size());
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             const TexelSample& ts = s.samples[index(i)];
-            Rng rng(streamSeed(settings.seed, pass, chunk.receiver, ts.texel));
+            Rng rng(streamSeed(settings_.seed, pass, chunk.receiver, ts.texel));
             const float angle = float(2.0 * kPi * rng.uniform());
             const float c = std::cos(angle), sn = std::sin(angle);
             glm::vec3 t, b;
             basis(ts.normal, t, b);
             const glm::vec3 tt = c * t + sn * b, bb = c * b - sn * t;  // the set turned about the normal
             const glm::vec3 origin = ts.position + ts.normal * s.in->rayOffset[ts.triangle];
-            for (std::uint32_t k = 0; k < S; ++k) {
-                Ray& ray = sc.rays[std::size_t(i) * S + k];
-                const glm::vec3 d = directions[k];
+            for (std::uint32_t k = 0; k < S_; ++k) {
+                Ray& ray = sc.rays[std::size_t(i) * S_ + k];
+                const glm::vec3 d = directions_[k];
                 ray.origin = origin;
                 ray.direction = d.x * tt + d.y * bb + d.z * ts.normal;
                 ray.tNear = 0.0f;
                 ray.tFar = std::numeric_limits<float>::infinity();
             }
         }
-        scene.intersect(sc.rays, sc.hits);
-    };
-    // The hit's triangle and whether the ray met its back.
-    const auto frontHit = [&](const Hit& h, glm::vec3 dir, std::uint32_t& triangle) {
-        const ReceiverState& hs = state[h.geometry];
+        scene_->intersect(sc.rays, sc.hits);
+    }
+
+    // The hit's triangle and whether the ray met its front.
+    bool frontHit(const Hit& h, glm::vec3 dir, std::uint32_t& triangle) const {
+        const ReceiverState& hs = state_[h.geometry];
         triangle = hs.rayTriangle[h.triangle];
         return glm::dot(hs.normal[triangle], dir) < 0.0f;
-    };
-    const auto dilateAll = [&](auto member, int channels, std::vector<float> empty) {
+    }
+
+    void dilateAll(std::vector<float> ReceiverState::*member, int channels, std::vector<float> empty) {
         const auto t0 = Clock::now();
-        tbb::parallel_for(std::size_t{0}, state.size(), [&](std::size_t r) {
-            ReceiverState& s = state[r];
+        tbb::parallel_for(std::size_t{0}, state_.size(), [&](std::size_t r) {
+            ReceiverState& s = state_[r];
             dilate(s.*member, channels, s.valid, s.owners, s.size, empty);
         });
-        out.stats.dilateSeconds += secondsSince(t0);
-    };
+        out_.stats.dilateSeconds += secondsSince(t0);
+    }
 
-    // ---- Direct: sky, AO and back faces from S cosine rays; the sun at K times of the day; lamps.
-    auto t0 = Clock::now();
-    forChunks(chunks, progress, 0.0, 1.0 / passes, [&](const Chunk& chunk) {
-        ReceiverState& s = state[chunk.receiver];
-        Scratch& sc = scratch.local();
-        hemisphere(chunk, kDirectPass, sc, [&](std::uint32_t i) { return chunk.first + i; });
+    // Shadow rays of a chunk's texels: the sun at K times of the day, and the receiver's lamps.
+    void shadowRays(const Chunk& chunk, Scratch& sc) const {
+        const ReceiverState& s = state_[chunk.receiver];
+        const std::uint32_t K = std::uint32_t(settings_.sunSamples);
         sc.shadow.clear(), sc.weight.clear(), sc.owner.clear();
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             const TexelSample& ts = s.samples[chunk.first + i];
             const glm::vec3 origin = ts.position + ts.normal * s.in->rayOffset[ts.triangle];
-            Rng rng(streamSeed(settings.seed, kSunPass, chunk.receiver, ts.texel));
+            Rng rng(streamSeed(settings_.seed, kSunPass, chunk.receiver, ts.texel));
             for (std::uint32_t k = 0; k < K; ++k) {
                 const double hours = kDayStart + (kDayEnd - kDayStart) * (double(k) + rng.uniform()) / double(K);
                 const glm::vec3 d(sunDirection(hours));
@@ -519,7 +607,7 @@ Lighting bakeLighting(std::span<const ReceiverInput> inputs, std::span<const Lam
                 sc.owner.push_back(i << 1);
             }
             for (std::uint32_t l : s.lamps) {
-                const glm::vec3 lamp = lamps[l].position;
+                const glm::vec3 lamp = lamps_[l].position;
                 const double e = lampIrradiance(glm::dvec3(lamp), glm::dvec3(origin), glm::dvec3(ts.normal));
                 if (e <= 1e-5) continue;
                 Ray ray;
@@ -531,16 +619,25 @@ Lighting bakeLighting(std::span<const ReceiverInput> inputs, std::span<const Lam
                 sc.owner.push_back((i << 1) | 1u);
             }
         }
+    }
+
+    // Direct: sky, AO and back faces from S cosine rays; the sun along the day; lamps.
+    void directChunk(const Chunk& chunk) {
+        ReceiverState& s = state_[chunk.receiver];
+        Scratch& sc = scratch_.local();
+        hemisphere(chunk, kDirectPass, sc, [&](std::uint32_t i) { return chunk.first + i; });
+        shadowRays(chunk, sc);
         sc.blocked.resize(sc.shadow.size());
-        scene.occluded(sc.shadow, sc.blocked);
-        rayCount += sc.rays.size() + sc.shadow.size();
+        scene_->occluded(sc.shadow, sc.blocked);
+        rayCount_ += sc.rays.size() + sc.shadow.size();
         float sun[kChunkTexels] = {}, lamp[kChunkTexels] = {};
         for (std::size_t k = 0; k < sc.shadow.size(); ++k)
             if (!sc.blocked[k]) (sc.owner[k] & 1u ? lamp : sun)[sc.owner[k] >> 1] += sc.weight[k];
+        const float aoRadius = float(settings_.aoRadius);
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             std::uint32_t sky = 0, open = 0, back = 0;
-            for (std::uint32_t k = 0; k < S; ++k) {
-                const std::size_t j = std::size_t(i) * S + k;
+            for (std::uint32_t k = 0; k < S_; ++k) {
+                const std::size_t j = std::size_t(i) * S_ + k;
                 const Hit& h = sc.hits[j];
                 const glm::vec3 dir = sc.rays[j].direction;
                 if (h.geometry == kNoHit) {
@@ -553,180 +650,128 @@ Lighting bakeLighting(std::span<const ReceiverInput> inputs, std::span<const Lam
                 back += !frontHit(h, dir, tri);
             }
             const std::uint32_t texel = s.samples[chunk.first + i].texel;
-            if (double(back) > kBackFaceLimit * S) continue;  // inside something: dilation fills it
+            if (double(back) > kBackFaceLimit * S_) continue;  // inside something: dilation fills it
             s.valid[texel] = 1;
-            s.direct[3 * texel] = float(sky) / float(S);
+            s.direct[3 * texel] = float(sky) / float(S_);
             s.direct[3 * texel + 1] = sun[i];
             s.direct[3 * texel + 2] = lamp[i];
-            s.ao[texel] = float(open) / float(S);
-        }
-    });
-    out.stats.raySeconds += secondsSince(t0);
-    dilateAll(&ReceiverState::direct, 3, {0.0f, 0.0f, 0.0f});
-    dilateAll(&ReceiverState::ao, 1, {1.0f});
-
-    // ---- Bounces: gather the previous bounce (the direct light first) times the albedo, at the
-    // coarse texels; the others interpolate their coarse neighbours.
-    for (int bounce = 1; bounce <= settings.bounces; ++bounce) {
-        for (ReceiverState& s : state) s.next.assign(3 * s.texelCount(), 0.0f);
-        t0 = Clock::now();
-        forChunks(coarseChunks, progress, double(bounce) / passes, double(bounce + 1) / passes, [&](const Chunk& chunk) {
-            ReceiverState& s = state[chunk.receiver];
-            Scratch& sc = scratch.local();
-            hemisphere(chunk, kBouncePass + std::uint64_t(bounce), sc, [&](std::uint32_t i) { return s.coarse[chunk.first + i]; });
-            rayCount += sc.rays.size();
-            for (std::uint32_t i = 0; i < chunk.count; ++i) {
-                const std::uint32_t texel = s.samples[s.coarse[chunk.first + i]].texel;
-                if (!s.valid[texel]) continue;
-                glm::vec3 sum(0.0f);
-                for (std::uint32_t k = 0; k < S; ++k) {
-                    const std::size_t j = std::size_t(i) * S + k;
-                    const Hit& h = sc.hits[j];
-                    std::uint32_t tri;
-                    if (h.geometry == kNoHit || !frontHit(h, sc.rays[j].direction, tri)) continue;
-                    const ReceiverState& hs = state[h.geometry];
-                    sum += hs.albedo[tri] * bilinear3(bounce == 1 ? hs.direct : hs.previous, hs.size, hitUv(hs, h));
-                }
-                sum /= float(S);
-                for (int c = 0; c < 3; ++c) s.next[3 * std::size_t(texel) + std::size_t(c)] = sum[c];
-            }
-        });
-        out.stats.raySeconds += secondsSince(t0);
-        const auto t1 = Clock::now();
-        tbb::parallel_for(std::size_t{0}, state.size(), [&](std::size_t r) {
-            ReceiverState& s = state[r];
-            std::vector<std::uint8_t> gathered(s.texelCount(), 0);
-            for (std::uint32_t i : s.coarse) gathered[s.samples[i].texel] = s.valid[s.samples[i].texel];
-            std::vector<std::uint8_t> filled = gathered;
-            const int w = s.size.x, h = s.size.y;
-            for (const TexelSample& ts : s.samples) {
-                if (gathered[ts.texel] || !s.valid[ts.texel]) continue;
-                const int x = int(ts.texel % std::uint32_t(w)), y = int(ts.texel / std::uint32_t(w));
-                glm::vec3 sum(0.0f);
-                float weight = 0.0f;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int xx = x + dx, yy = y + dy;
-                        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-                        const std::size_t j = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
-                        if (!gathered[j] || s.owners[j] != s.owners[ts.texel]) continue;
-                        const float wgt = float((2 - std::abs(dx)) * (2 - std::abs(dy)));
-                        sum += wgt * glm::vec3(s.next[3 * j], s.next[3 * j + 1], s.next[3 * j + 2]);
-                        weight += wgt;
-                    }
-                if (weight <= 0.0f) continue;
-                sum /= weight;
-                for (int c = 0; c < 3; ++c) s.next[3 * std::size_t(ts.texel) + std::size_t(c)] = sum[c];
-                filled[ts.texel] = 1;
-            }
-            dilate(s.next, 3, filled, s.owners, s.size, std::vector<float>{0.0f, 0.0f, 0.0f});
-        });
-        out.stats.dilateSeconds += secondsSince(t1);
-        for (ReceiverState& s : state) {
-            for (std::size_t i = 0; i < s.bounced.size(); ++i) s.bounced[i] += s.next[i];
-            s.previous.swap(s.next);
+            s.ao[texel] = float(open) / float(S_);
         }
     }
-    for (ReceiverState& s : state) {
-        std::vector<float>().swap(s.previous);
-        std::vector<float>().swap(s.next);
-    }
 
-    // ---- Rooms: the irradiance (direct + bounced) of the surfaces seen through their windows.
-    out.receivers.resize(inputs.size());
-    for (std::size_t r = 0; r < inputs.size(); ++r) out.receivers[r].rooms.assign(inputs[r].rooms, glm::vec3(0.0f));
-    std::vector<std::size_t> order(windows.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return std::tie(windows[a].receiver, windows[a].slot, a) < std::tie(windows[b].receiver, windows[b].slot, b);
-    });
-    std::vector<std::pair<std::size_t, std::size_t>> rooms;  // ranges of `order`
-    for (std::size_t i = 0; i < order.size();) {
-        std::size_t j = i;
-        while (j < order.size() && windows[order[j]].receiver == windows[order[i]].receiver && windows[order[j]].slot == windows[order[i]].slot) ++j;
-        DAWNFORGE_ASSERT(windows[order[i]].receiver < inputs.size() && windows[order[i]].slot < inputs[windows[order[i]].receiver].rooms,
-                         "bakeLighting(): a window's room is out of range");
-        rooms.emplace_back(i, j);
-        i = j;
-    }
-    t0 = Clock::now();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rooms.size(), 1), [&](const tbb::blocked_range<std::size_t>& range) {
-        Scratch& sc = scratch.local();
-        for (std::size_t ri = range.begin(); ri != range.end(); ++ri) {
-            const auto [first, last] = rooms[ri];
-            const RoomWindow& w0 = windows[order[first]];
-            std::vector<double> cumulative;
-            double total = 0.0;
-            for (std::size_t k = first; k < last; ++k) {
-                const RoomWindow& w = windows[order[k]];
-                total += 0.5 * double(glm::length(glm::cross(w.b - w.a, w.c - w.a)));
-                cumulative.push_back(total);
-            }
-            const std::uint32_t M = std::uint32_t(settings.roomSamples);
-            sc.rays.resize(M);
-            sc.hits.resize(M);
-            Rng rng(streamSeed(settings.seed, kRoomPass, w0.receiver, w0.slot));
-            for (std::uint32_t j = 0; j < M; ++j) {
-                const double pick = total * (double(j) + rng.uniform()) / double(M);
-                const std::size_t k = std::min<std::size_t>(std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin()),
-                                                            cumulative.size() - 1);
-                const RoomWindow& w = windows[order[first + k]];
-                double u = rng.uniform(), v = rng.uniform();
-                if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-                const glm::vec3 p = w.a + float(u) * (w.b - w.a) + float(v) * (w.c - w.a);
-                glm::vec3 t, b;
-                basis(w.inward, t, b);
-                Ray& ray = sc.rays[j];
-                ray.origin = p + 0.02f * w.inward;
-                ray.direction = cosineDirection(j, M, float(rng.uniform()), float(rng.uniform()), t, b, w.inward);
-                ray.tNear = 0.0f;
-                ray.tFar = std::numeric_limits<float>::infinity();
-            }
-            scene.intersect(sc.rays, sc.hits);
-            rayCount += M;
+    // A bounce: the previous bounce (the direct light first) where the rays land, times the albedo.
+    void bounceChunk(const Chunk& chunk, int bounce) {
+        ReceiverState& s = state_[chunk.receiver];
+        Scratch& sc = scratch_.local();
+        hemisphere(chunk, kBouncePass + std::uint64_t(bounce), sc, [&](std::uint32_t i) { return s.coarse[chunk.first + i]; });
+        rayCount_ += sc.rays.size();
+        for (std::uint32_t i = 0; i < chunk.count; ++i) {
+            const std::uint32_t texel = s.samples[s.coarse[chunk.first + i]].texel;
+            if (!s.valid[texel]) continue;
             glm::vec3 sum(0.0f);
-            for (std::uint32_t j = 0; j < M; ++j) {
+            for (std::uint32_t k = 0; k < S_; ++k) {
+                const std::size_t j = std::size_t(i) * S_ + k;
                 const Hit& h = sc.hits[j];
                 std::uint32_t tri;
                 if (h.geometry == kNoHit || !frontHit(h, sc.rays[j].direction, tri)) continue;
-                const ReceiverState& hs = state[h.geometry];
-                const glm::vec2 uv = hitUv(hs, h);
-                sum += bilinear3(hs.direct, hs.size, uv) + bilinear3(hs.bounced, hs.size, uv);
+                const ReceiverState& hs = state_[h.geometry];
+                sum += hs.albedo[tri] * bilinear3(bounce == 1 ? hs.direct : hs.previous, hs.size, hitUv(hs, h));
             }
-            out.receivers[w0.receiver].rooms[w0.slot] = sum / float(M);
+            sum /= float(S_);
+            for (int c = 0; c < 3; ++c) s.next[3 * std::size_t(texel) + std::size_t(c)] = sum[c];
         }
-    });
-    out.stats.raySeconds += secondsSince(t0);
+    }
 
-    // ---- The four channels, and the room table.
-    tbb::parallel_for(std::size_t{0}, state.size(), [&](std::size_t r) {
-        ReceiverState& s = state[r];
-        ReceiverLighting& o = out.receivers[r];
-        const std::size_t n = s.texelCount();
-        o.channels.assign(4 * n, 0.0f);
-        for (std::size_t i = 0; i < n; ++i) {
-            o.channels[4 * i] = s.direct[3 * i] + s.bounced[3 * i];
-            o.channels[4 * i + 1] = s.bounced[3 * i + 1];
-            o.channels[4 * i + 2] = s.ao[i];
-            o.channels[4 * i + 3] = s.direct[3 * i + 2] + s.bounced[3 * i + 2];
+    // Rooms: the irradiance (direct + bounced) of the surfaces seen through their windows.
+    void roomTable() {
+        std::vector<std::size_t> order(windows_.size());
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return std::tie(windows_[a].receiver, windows_[a].slot, a) < std::tie(windows_[b].receiver, windows_[b].slot, b);
+        });
+        std::vector<std::pair<std::size_t, std::size_t>> rooms;  // ranges of `order`
+        for (std::size_t i = 0; i < order.size();) {
+            std::size_t j = i;
+            const RoomWindow& w = windows_[order[i]];
+            while (j < order.size() && windows_[order[j]].receiver == w.receiver && windows_[order[j]].slot == w.slot) ++j;
+            DAWNFORGE_ASSERT(w.receiver < inputs_.size() && w.slot < inputs_[w.receiver].rooms, "bakeLighting(): a window's room is out of range");
+            rooms.emplace_back(i, j);
+            i = j;
         }
-        if (s.in->rooms > 0) {
-            DAWNFORGE_ASSERT(!s.in->layout.extraOrigins.empty(), "bakeLighting(): a receiver with rooms needs its room table block");
-            for (std::uint32_t slot = 0; slot < s.in->rooms; ++slot) {
-                const glm::ivec2 at = roomTexel(s.in->layout.extraOrigins[0], slot);
-                const glm::vec3 v = o.rooms[slot];
-                for (int dy = 0; dy < kChartAlign; ++dy)
-                    for (int dx = 0; dx < kChartAlign; ++dx) {
-                        const std::size_t i = std::size_t(at.y + dy) * std::size_t(s.size.x) + std::size_t(at.x + dx);
-                        o.channels[4 * i] = v.x, o.channels[4 * i + 1] = v.y, o.channels[4 * i + 2] = 1.0f, o.channels[4 * i + 3] = v.z;
-                    }
-            }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rooms.size(), 1), [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t ri = range.begin(); ri != range.end(); ++ri) roomLevels(order, rooms[ri].first, rooms[ri].second);
+        });
+    }
+
+    // One room's levels from rays cast inwards through its windows (order[first..last)).
+    void roomLevels(const std::vector<std::size_t>& order, std::size_t first, std::size_t last) {
+        Scratch& sc = scratch_.local();
+        const RoomWindow& w0 = windows_[order[first]];
+        std::vector<double> cumulative;
+        double total = 0.0;
+        for (std::size_t k = first; k < last; ++k) {
+            const RoomWindow& w = windows_[order[k]];
+            total += 0.5 * double(glm::length(glm::cross(w.b - w.a, w.c - w.a)));
+            cumulative.push_back(total);
         }
-        o.texels = s.samples.size();
-        for (const TexelSample& ts : s.samples) o.invalid += !s.valid[ts.texel];
-    });
-    out.stats.rays = rayCount.load();
-    return out;
+        const std::uint32_t M = std::uint32_t(settings_.roomSamples);
+        sc.rays.resize(M);
+        sc.hits.resize(M);
+        Rng rng(streamSeed(settings_.seed, kRoomPass, w0.receiver, w0.slot));
+        for (std::uint32_t j = 0; j < M; ++j) {
+            const double pick = total * (double(j) + rng.uniform()) / double(M);
+            const std::size_t k = std::min<std::size_t>(
+                std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin()), cumulative.size() - 1);
+            const RoomWindow& w = windows_[order[first + k]];
+            double u = rng.uniform(), v = rng.uniform();
+            if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+            const glm::vec3 p = w.a + float(u) * (w.b - w.a) + float(v) * (w.c - w.a);
+            glm::vec3 t, b;
+            basis(w.inward, t, b);
+            Ray& ray = sc.rays[j];
+            ray.origin = p + 0.02f * w.inward;
+            ray.direction = cosineDirection(j, M, float(rng.uniform()), float(rng.uniform()), t, b, w.inward);
+            ray.tNear = 0.0f;
+            ray.tFar = std::numeric_limits<float>::infinity();
+        }
+        scene_->intersect(sc.rays, sc.hits);
+        rayCount_ += M;
+        glm::vec3 sum(0.0f);
+        for (std::uint32_t j = 0; j < M; ++j) {
+            const Hit& h = sc.hits[j];
+            std::uint32_t tri;
+            if (h.geometry == kNoHit || !frontHit(h, sc.rays[j].direction, tri)) continue;
+            const ReceiverState& hs = state_[h.geometry];
+            const glm::vec2 uv = hitUv(hs, h);
+            sum += bilinear3(hs.direct, hs.size, uv) + bilinear3(hs.bounced, hs.size, uv);
+        }
+        out_.receivers[w0.receiver].rooms[w0.slot] = sum / float(M);
+    }
+
+    std::span<const ReceiverInput> inputs_;
+    std::span<const Lamp> lamps_;
+    std::span<const RoomWindow> windows_;
+    const LightingSettings& settings_;
+    const ProgressFn& progress_;
+    std::vector<ReceiverState> state_;
+    std::uint32_t S_;
+    std::vector<glm::vec3> directions_;
+    std::unique_ptr<RayScene> own_;
+    const RayScene* scene_ = nullptr;
+    std::vector<Chunk> chunks_, coarseChunks_;
+    tbb::enumerable_thread_specific<Scratch> scratch_;
+    std::atomic<std::size_t> rayCount_{0};
+    Lighting out_;
+};
+
+}  // namespace
+
+Lighting bakeLighting(std::span<const ReceiverInput> inputs, std::span<const Lamp> lamps, std::span<const RoomWindow> windows,
+                      const LightingSettings& settings, const ProgressFn& progress, const RayScene* prebuilt) {
+    DAWNFORGE_ASSERT(settings.samples > 0 && settings.sunSamples > 0 && settings.bounces >= 0 && settings.roomSamples > 0,
+                     "bakeLighting(): sample counts must be positive");
+    LightingBaker baker(inputs, lamps, windows, settings, progress, prebuilt);
+    return baker.run();
 }
 
 }  // namespace dawnforge::bake

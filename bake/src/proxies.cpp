@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -130,7 +131,9 @@ ProxyBox makeBox(const std::string& name, int part, const char* kind, const Plan
     const glm::dvec2 mid = 0.5 * (plan.lo + plan.hi);
     const glm::dvec2 centre = mid.x * plan.u + mid.y * plan.w;
     b.centre = {centre.x, 0.5 * (y0 + y1), centre.y};
-    b.halfSize = {0.5 * (plan.hi.x - plan.lo.x), 0.5 * (y1 - y0), 0.5 * (plan.hi.y - plan.lo.y)};
+    // Flat ground is a slab 10 cm thick (centred on it), so that every box has a volume.
+    constexpr double kMinHalf = 0.05;
+    b.halfSize = glm::max(glm::dvec3(0.5 * (plan.hi.x - plan.lo.x), 0.5 * (y1 - y0), 0.5 * (plan.hi.y - plan.lo.y)), glm::dvec3(kMinHalf));
     return b;
 }
 

@@ -56,7 +56,7 @@ glm::dvec3 sunDirection(double hours);
 // -0.2 to 0.2 in the sine of the angle below the horizontal), inverse-square with a softening
 // radius kLampSoftening, windowed to zero at kLampRange by (1 - (d/range)^4)^2:
 //   E = I · s(dir.y) · max(0, n·dir) · window(d) / (d² + r²), dir = unit (lamp - point).
-inline constexpr double kLampIntensity = 7.5;  // a floor 2.74 m below gets irradiance 1
+inline constexpr double kLampIntensity = 7.5;  // a floor 2.74 m below gets irradiance 0.97
 inline constexpr double kLampSoftening = 0.1;
 inline constexpr double kLampRange = 8.0;
 inline constexpr double kLampBelowCeiling = 0.3;  // lamps hang this far under the ceiling

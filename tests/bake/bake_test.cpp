@@ -1,0 +1,287 @@
+// `bakeCity` on a small generated city, checked from the files it writes (bake_folder.hpp):
+// rooms darker than roofs, lit rooms with lamp light, overlook heights that match the
+// buildings, proxies, byte-identical files on any thread count, and bad input.
+#include "test_support.hpp"
+
+#include <dawnforge/bake/bake.hpp>
+#include <dawnforge/bake/bake_folder.hpp>
+#include <dawnforge/bake/lighting.hpp>
+#include <dawnforge/bake/overlook.hpp>
+#include <dawnforge/core/import.hpp>
+#include <dawnforge/core/materials.hpp>
+#include <dawnforge/core/read_file.hpp>
+#include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/procgen/city.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+namespace dawnforge::bake {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+// A coarse bake: seconds, yet every channel and file is there.
+BakeSettings quickSettings() {
+    BakeSettings s;
+    s.texel = 0.5;
+    s.interiorTexel = 0.75;
+    s.groundTexel = 2.0;
+    s.samples = 16;
+    s.sunSamples = 4;
+    s.bounces = 1;
+    return s;
+}
+
+void writeCity(const fs::path& dir) {
+    procgen::CitySettings settings;
+    settings.size = {120.0, 100.0};
+    procgen::City city = procgen::generateCity(settings);
+    const std::string report = procgen::cityReportJson(city);
+    const Scene scene = procgen::takeCityScene(city);
+    fs::create_directories(dir);
+    exporters::writeGlb(scene, dir / "city.glb");
+    test::writeText(dir / "city.json", report);
+}
+
+// One city baked on 1 and on 2 threads, shared by the tests of the suite.
+class BakeCity : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new TempDir();
+        for (const char* name : {"one", "two"}) {
+            writeCity(dir() / name);
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, name[0] == 'o' ? 1 : 2);
+            report_ = bakeCity(dir() / name, quickSettings());
+        }
+    }
+    static void TearDownTestSuite() {
+        delete dir_;
+        dir_ = nullptr;
+    }
+    static fs::path dir() { return dir_->path(); }
+    static TempDir* dir_;
+    static BakeReport report_;
+};
+TempDir* BakeCity::dir_ = nullptr;
+BakeReport BakeCity::report_;
+
+// The lightmap value at the centroid of each triangle (nearest texel), by material, for every
+// receiver of the bake: what the runtime reads, taken from the files.
+struct Samples {
+    std::map<int, std::vector<glm::vec4>> byMaterial;
+};
+
+Samples sampleCentroids(const fs::path& cityDir) {
+    const std::vector<std::byte> glb = readBinaryFile(cityDir / "city.glb");
+    const BakeFolder folder = readBake(cityDir, glb);
+    std::map<std::string, const Mesh*> meshes;
+    const std::vector<MeshNode> nodes = loadMeshNodes(cityDir / "city.glb");
+    for (const MeshNode& n : nodes) meshes[n.name] = &n.mesh;
+    Samples out;
+    for (const BakedReceiver& r : folder.receivers)
+        for (const BakedMesh& bm : r.meshes) {
+            if (!bm.node.ends_with("_lod0")) continue;
+            const Mesh& m = *meshes.at(bm.node);
+            for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+                const std::uint32_t* idx = &m.indices[3 * t];
+                const glm::vec2 uv = (bm.uv[idx[0]] + bm.uv[idx[1]] + bm.uv[idx[2]]) / 3.0f;
+                const int x = std::clamp(int(uv.x * float(r.width)), 0, r.width - 1);
+                const int y = std::clamp(int(uv.y * float(r.height)), 0, r.height - 1);
+                const std::uint8_t* p = &r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x))];
+                out.byMaterial[m.materialIds[idx[0]]].emplace_back(decodeChannel(p[0], 0), decodeChannel(p[1], 1),
+                                                                    decodeChannel(p[2], 2), decodeChannel(p[3], 3));
+            }
+        }
+    return out;
+}
+
+glm::vec4 mean(const std::vector<glm::vec4>& v) {
+    glm::vec4 s(0.0f);
+    for (const glm::vec4& x : v) s += x;
+    return v.empty() ? s : s / float(v.size());
+}
+
+TEST_F(BakeCity, WritesEveryFileOfTheFolder) {
+    const fs::path bake = dir() / "one" / "bake";
+    const nlohmann::json j = nlohmann::json::parse(test::readText(bake / "bake.json"));
+    EXPECT_EQ(j["format"], "dawnforge.bake");
+    EXPECT_GT(report_.buildings, 3u);
+    EXPECT_EQ(j["receivers"].size(), report_.receivers);
+    for (const nlohmann::json& r : j["receivers"]) {
+        EXPECT_TRUE(fs::exists(bake / r["lightmap"].get<std::string>()));
+        EXPECT_TRUE(fs::exists(bake / r["uv"].get<std::string>()));
+    }
+    EXPECT_TRUE(fs::exists(bake / "overlook.exr"));
+    EXPECT_TRUE(fs::exists(bake / "proxies.json"));
+    for (const fs::directory_entry& e : fs::directory_iterator(dir() / "one"))
+        EXPECT_FALSE(e.path().filename().string().starts_with("bake.")) << "a temporary folder was left: " << e.path();
+}
+
+TEST_F(BakeCity, SameBytesOnOneAndTwoThreads) {
+    std::size_t files = 0;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir() / "one" / "bake")) {
+        const fs::path other = dir() / "two" / "bake" / e.path().filename();
+        ASSERT_TRUE(fs::exists(other)) << other;
+        EXPECT_EQ(test::readBytes(e.path()), test::readBytes(other)) << e.path().filename();
+        ++files;
+    }
+    EXPECT_GT(files, 10u);
+}
+
+TEST_F(BakeCity, RoomsAreDarkerThanRoofsAndOpenWallsInBetween) {
+    const Samples s = sampleCentroids(dir() / "one");
+    const glm::vec4 floors = mean(s.byMaterial.at(kFloor)), roofs = mean(s.byMaterial.at(kRoofTiles));
+    const glm::vec4 rooms = mean(s.byMaterial.at(kInteriorWall));
+    // Roofs see most of the sky and little occludes them; rooms see the sky through windows only.
+    EXPECT_GT(roofs.r, 0.6f);
+    EXPECT_LT(floors.r, 0.25f * roofs.r);
+    EXPECT_LT(rooms.r, 0.25f * roofs.r);
+    EXPECT_LT(floors.b, roofs.b);  // AO
+    EXPECT_LT(rooms.b, roofs.b);
+    EXPECT_GT(roofs.b, 0.9f);
+    // Outer walls: about half the sky, minus their neighbours.
+    const glm::vec4 walls = mean(s.byMaterial.at(kPlaster));
+    EXPECT_GT(walls.r, floors.r);
+    EXPECT_LT(walls.r, roofs.r);
+}
+
+TEST_F(BakeCity, LitRoomsHaveLampLightAndUnlitOnesLess) {
+    // Glass points at its room's block of the room table: A there is the lamp light of the
+    // room's surfaces seen through the window; lit rooms are the runtime's lit windows.
+    const fs::path city = dir() / "one";
+    const BakeFolder folder = readBake(city, readBinaryFile(city / "city.glb"));
+    std::map<std::string, const Mesh*> meshes;
+    const std::vector<MeshNode> nodes = loadMeshNodes(city / "city.glb");
+    for (const MeshNode& n : nodes) meshes[n.name] = &n.mesh;
+    double litSum = 0.0, unlitSum = 0.0;
+    std::size_t lit = 0, unlit = 0, darkLit = 0;
+    for (const BakedReceiver& r : folder.receivers) {
+        if (!r.name.starts_with("building_")) continue;
+        const auto building = std::uint32_t(std::stoul(r.name.substr(9)));
+        const BakedMesh& bm = r.meshes.front();
+        const Mesh& m = *meshes.at(bm.node);
+        std::map<std::uint32_t, float> rooms;
+        for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+            const std::uint32_t v = m.indices[3 * t];
+            if (m.materialIds[v] != kGlass || m.uv1[v].x <= 0.0f) continue;
+            const int x = int(bm.uv[v].x * float(r.width)), y = int(bm.uv[v].y * float(r.height));
+            rooms[std::uint32_t(std::lround(m.uv1[v].y))] = decodeChannel(r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x)) + 3], 3);
+        }
+        for (const auto& [room, a] : rooms) {
+            if (roomLampLit(building, room)) {
+                litSum += a, ++lit;
+                darkLit += a <= 0.0f;
+            } else {
+                unlitSum += a, ++unlit;
+            }
+        }
+    }
+    ASSERT_GT(lit, 20u);
+    ASSERT_GT(unlit, 20u);
+    EXPECT_LE(darkLit, lit / 20) << "lit rooms without lamp light";
+    EXPECT_GT(litSum / double(lit), 0.1);
+    EXPECT_GT(litSum / double(lit), 4.0 * unlitSum / double(unlit));
+}
+
+TEST_F(BakeCity, OverlookHeightsMatchTheBuildings) {
+    const fs::path city = dir() / "one";
+    const OverlookMap map = readOverlook(city / "bake" / "overlook.exr");
+    ASSERT_GT(map.width, 100);
+    const std::vector<MeshNode> nodes = loadMeshNodes(city / "city.glb");
+    std::size_t buildings = 0;
+    for (const MeshNode& n : nodes) {
+        if (!n.name.ends_with("_lod1")) continue;
+        glm::vec3 lo(1e9f), hi(-1e9f);
+        for (const glm::vec3& p : n.mesh.positions) {
+            const glm::vec3 w(n.world * glm::vec4(p, 1.0f));
+            lo = glm::min(lo, w), hi = glm::max(hi, w);
+        }
+        float highest = kNoRoof;
+        for (int j = 0; j < map.height; ++j)
+            for (int i = 0; i < map.width; ++i) {
+                const double x = map.origin.x + (i + 0.5) * map.texel, z = map.origin.y + (j + 0.5) * map.texel;
+                if (x < lo.x || x > hi.x || z < lo.z || z > hi.z) continue;
+                const std::size_t k = std::size_t(j) * std::size_t(map.width) + std::size_t(i);
+                highest = std::max(highest, map.roof[k]);
+                if (map.roof[k] != kNoRoof) {
+                    // The first surface from above is the roof: depth = top - roof.
+                    EXPECT_NEAR(map.depth[k], map.top - map.roof[k], 1e-3);
+                    EXPECT_GE(map.roof[k], map.ground[k] - 1e-3f);
+                }
+            }
+        // The highest roof texel within half a texel's slope of the building's top (ridges).
+        EXPECT_LE(highest, hi.y + 1e-3f) << n.name;
+        EXPECT_GE(highest, hi.y - 0.6f) << n.name;
+        ++buildings;
+    }
+    EXPECT_GT(buildings, 3u);
+}
+
+TEST_F(BakeCity, ProxiesCoverEveryBuildingWithColoursInRange) {
+    const nlohmann::json j = nlohmann::json::parse(test::readText(dir() / "one" / "bake" / "proxies.json"));
+    EXPECT_EQ(j["format"], "dawnforge.proxies");
+    std::map<std::string, int> kinds;
+    std::set<std::string> buildings;
+    for (const nlohmann::json& b : j["boxes"]) {
+        ++kinds[b["kind"].get<std::string>()];
+        if (b["kind"] == "building") buildings.insert(b["name"].get<std::string>());
+        ASSERT_EQ(b["colours"].size(), 6u);
+        for (const nlohmann::json& c : b["colours"])
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_GE(c[k].get<double>(), 0.0);
+                EXPECT_LE(c[k].get<double>(), 1.0);
+            }
+        for (int k = 0; k < 3; ++k) EXPECT_GT(b["half_size"][k].get<double>(), 0.0);
+    }
+    EXPECT_EQ(buildings.size(), report_.buildings);
+    EXPECT_GT(kinds["ground"], 0);
+}
+
+TEST_F(BakeCity, ABakeOfAnotherCityIsRefused) {
+    std::vector<std::byte> glb = readBinaryFile(dir() / "one" / "city.glb");
+    glb.back() = std::byte(int(glb.back()) ^ 1);
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { readBake(dir() / "one", glb); }), "another city.glb"));
+}
+
+TEST(BakeInput, MissingOrIncompleteCitiesAndBudgetsAreRefusedWithNothingWritten) {
+    TempDir dir;
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { bakeCity(dir / "nowhere", quickSettings()); }), "no such city folder"));
+    writeCity(dir / "city");
+    fs::remove(dir / "city" / "city.json");
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { bakeCity(dir / "city", quickSettings()); }), "city.json"));
+    test::writeText(dir / "city" / "city.json", R"({"counts": {"buildings": 999}})");
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { bakeCity(dir / "city", quickSettings()); }), "999"));
+    writeCity(dir / "city");
+    BakeSettings huge = quickSettings();
+    huge.texel = huge.interiorTexel = 0.05;
+    huge.memoryBudgetMb = 64;
+    const std::string message = test::inputErrorOf([&] { bakeCity(dir / "city", huge); });
+    EXPECT_TRUE(test::contains(message, "budget of 64 MB")) << message;
+    huge.texel = huge.interiorTexel = 0.01;  // a wall wider than a chart can hold
+    huge.memoryBudgetMb = 1e6;
+    bool budget = false;
+    try {
+        bakeCity(dir / "city", huge);
+    } catch (const BakeBudgetError& e) {
+        budget = test::contains(e.what(), "texels of 0.01 m");
+    }
+    EXPECT_TRUE(budget);
+    BakeSettings bad = quickSettings();
+    bad.samples = 0;
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { bakeCity(dir / "city", bad); }), "sample count"));
+    std::vector<std::string> left;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir / "city")) left.push_back(e.path().filename().string());
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, (std::vector<std::string>{"city.glb", "city.json"}));
+}
+
+}  // namespace
+}  // namespace dawnforge::bake
