@@ -13,6 +13,7 @@ layout(location = 4) in vec2 aUv2;
 layout(location = 5) in uint aMaterial;
 layout(location = 6) in uvec4 aBlocks;    // per instance: 16 block codes, one byte each
 layout(location = 7) in uint aBuilding;   // per instance: the building id (room styles, lit windows)
+layout(location = 9) in vec3 aLight;      // baked lightmap (u, v, layer); layer -1: none
 #ifdef DEPTH_PASS
 layout(location = 0) uniform mat4 depthViewProj;
 #endif
@@ -26,6 +27,7 @@ void main() {
     vUv0 = aUv0;
     vUv1 = aUv1;
     vUv2 = aUv2;
+    vLight = aLight;
     vMaterial = aMaterial & 15u;
     vRect = atlasBlockRect(blockCode(aBlocks, vMaterial));
     vTile = materials.tileMetres[vMaterial].x;

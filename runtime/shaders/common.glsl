@@ -54,3 +54,27 @@ vec3 diffuseLight(vec3 worldPos, vec3 n) {
     vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5);
     return frame.sunColor.rgb * ndl * shadow + hemi * 0.9;
 }
+
+// Baked lighting (bake/lighting.hpp, CITY_DIR/bake/): R sky, G sun bounce averaged over the
+// day, B ambient occlusion, A lamps; stored s decodes to s² × range.
+const vec4 kBakedRange = vec4(2.0, 2.0, 1.0, 4.0);
+// Ceiling lamps' colour (linear): warm white, scaled by the night factor like the lit windows.
+const vec3 kLampColor = vec3(1.0, 0.74, 0.46);
+vec4 decodeBaked(vec4 stored) { return stored * stored * kBakedRange; }
+
+// The sky's irradiance on an open horizontal surface (baked R = 1 there), the same sky as the
+// unbaked hemisphere term of diffuseLight().
+vec3 bakedSkyColor() { return 0.45 * (frame.skyZenith.rgb + frame.skyHorizon.rgb); }
+
+// Light of the baked channels without the direct sun: sky, sun bounce and lamps (the issue's
+// skyColour(t) × R + sunColour(t) × G + lampColour × A × night(t)).
+vec3 bakedIndirect(vec4 b) {
+    return bakedSkyColor() * b.r + frame.sunColor.rgb * b.g + kLampColor * b.a * frame.sunDir.w;
+}
+
+// Diffuse light on a baked surface: (sun × shadow + the baked terms) × AO.
+vec3 bakedDiffuseLight(vec3 worldPos, vec3 n, vec4 b) {
+    float ndl = max(dot(n, frame.sunDir.xyz), 0.0);
+    float shadow = ndl > 0.0 ? sunShadow(worldPos, n) : 0.0;
+    return (frame.sunColor.rgb * ndl * shadow + bakedIndirect(b)) * b.b;
+}

@@ -10,6 +10,7 @@
 layout(binding = 0) uniform sampler2D atlas;
 layout(binding = 1) uniform sampler2D rooms;
 layout(binding = 2) uniform sampler2D roomMiddle;
+layout(binding = 8) uniform sampler2DArray lightmaps;
 layout(location = 4) uniform int roomStyles;
 layout(location = 0) out vec4 outColor;
 
@@ -26,6 +27,8 @@ void main() {
     vec3 n = normalize(vNormal);
     if (dot(n, V) > 0.0) n = -n;
     float night = frame.sunDir.w;
+    bool baked = vLight.z >= 0.0;
+    vec4 bake = baked ? decodeBaked(texture(lightmaps, vLight)) : vec4(0.0);
     vec3 color;
     if (vMaterial == kGlass) {
         float cosTheta = clamp(dot(-V, n), 0.0, 1.0);
@@ -43,6 +46,8 @@ void main() {
             bool lamp = ((h >> 8u) & 255u) < 110u;
             vec3 light = mix(0.5 * (frame.skyHorizon.rgb + frame.skyZenith.rgb) * 0.8,
                              lamp ? vec3(1.6, 1.15, 0.7) : vec3(0.015, 0.015, 0.02), night);
+            // Baked: the room's own sky, sun-bounce and lamp levels (its block of the room table).
+            if (baked) light = bakedIndirect(bake) + vec3(0.004, 0.004, 0.005);
             behind = inside.rgb * light;
             vec4 front = frontLayer(faceUv, vUv2, h);
             behind = mix(behind, front.rgb * mix(diffuseLight(vWorld, n), light, 0.5), front.a);
@@ -50,7 +55,7 @@ void main() {
         color = mix(behind, reflection, fresnel);
     } else {
         vec3 albedo = sampleAtlas(atlas, vRect, vUv0, vTile).rgb;
-        color = albedo * diffuseLight(vWorld, n);
+        color = albedo * (baked ? bakedDiffuseLight(vWorld, n, bake) : diffuseLight(vWorld, n));
     }
     outColor = vec4(fog(color, V, distance), 1.0);
 }

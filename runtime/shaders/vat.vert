@@ -73,6 +73,7 @@ void main() {
 #else
     vWorld = world;
     vNormal = mat3(model) * rotate(q, aNormal);
+    vLight = vec3(0.0, 0.0, -1.0);  // pieces are not baked
     vUv0 = aUv0;
     vUv1 = vec2(0.0);
     vUv2 = vec2(0.0);

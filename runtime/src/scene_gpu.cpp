@@ -5,6 +5,7 @@
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/core/seed.hpp>
 #include <dawnforge/exporters/vat_read.hpp>
 #include <dawnforge/runtime/atlas.hpp>
@@ -44,7 +45,8 @@ void vertexLayout(GLuint vao) {
     glVertexArrayAttribFormat(vao, 3, 2, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, uv1));
     glVertexArrayAttribFormat(vao, 4, 2, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, uv2));
     glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_BYTE, offsetof(StaticVertex, material));
-    for (GLuint a = 0; a < 6; ++a) {
+    glVertexArrayAttribFormat(vao, 9, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, light));
+    for (GLuint a : {0u, 1u, 2u, 3u, 4u, 5u, 9u}) {
         glEnableVertexArrayAttrib(vao, a);
         glVertexArrayAttribBinding(vao, a, 0);
     }
@@ -58,6 +60,7 @@ StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, 
     v.uv1 = m.uv1.empty() ? glm::vec2(0) : m.uv1[i];
     v.uv2 = m.uv2.empty() ? glm::vec2(0) : m.uv2[i];
     v.material = m.materialIds.empty() ? 0 : std::uint8_t(m.materialIds[i] & 15u);
+    v.light = glm::vec3(0.0f, 0.0f, -1.0f);
     return v;
 }
 
@@ -103,6 +106,11 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     boundsMin_ = glm::dvec3(std::numeric_limits<double>::max());
     boundsMax_ = glm::dvec3(-std::numeric_limits<double>::max());
     vao_ = gl::makeVertexArray();
+    // Without a bake, one black layer: the shaders never read it (every vertex's layer is -1).
+    lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(lightmaps_.id(), 1, GL_RGBA8, 1, 1, 1);
+    const std::uint8_t black[4] = {0, 0, 0, 0};
+    glTextureSubImage3D(lightmaps_.id(), 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, black);
     if (scene.cityDir) loadCity(*scene.cityDir);
     for (const DestructionInstance& d : scene.destruction) loadVat(d);
     if (boundsMin_.x > boundsMax_.x) boundsMin_ = glm::dvec3(-10.0), boundsMax_ = glm::dvec3(10.0);
@@ -117,7 +125,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
 
     if (scene.ocean) {
         loadOcean(*scene.ocean);
-        renderOverlook();  // only the ocean reads it
+        if (!bakedOverlook_) renderOverlook();  // only the ocean reads it; a bake brings its own
     }
     gl::check("loading the scene");
 }
@@ -125,6 +133,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
 void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
     const std::filesystem::path file = cityDir / "city.glb";
     std::vector<MeshNode> nodes = loadMeshNodes(file);
+    const std::optional<BakedCity> baked = loadBakedCity(cityDir, readBinaryFile(file));
     std::vector<StaticVertex> vertices;
     std::vector<std::uint32_t> indices;
     std::vector<InstanceData> instances;
@@ -136,8 +145,14 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
         r.baseVertex = std::int32_t(vertices.size());
         r.count = std::uint32_t(node.mesh.indices.size());
         const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(node.world)));
+        const std::vector<glm::vec3>* light = nullptr;
+        if (baked) {
+            const auto it = baked->lightmaps.nodeUv.find(node.name);
+            if (it != baked->lightmaps.nodeUv.end() && it->second.size() == node.mesh.positions.size()) light = &it->second;
+        }
         for (std::size_t i = 0; i < node.mesh.positions.size(); ++i) {
             vertices.push_back(staticVertex(node.mesh, i, node.world, normalMatrix));
+            if (light) vertices.back().light = (*light)[i];
             lo = glm::min(lo, vertices.back().position);
             hi = glm::max(hi, vertices.back().position);
         }
@@ -194,6 +209,39 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
     }
     glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(InstanceData));
     glVertexArrayBindingDivisor(vao, 1, 1);
+    if (baked) {
+        loadLightmaps(baked->lightmaps);
+        if (baked->overlook) loadOverlook(*baked->overlook);
+    }
+}
+
+// Two mip levels (bake/charts.hpp: kLightmapLevels), the second averaged by GL: the charts'
+// blocks are aligned so that it never mixes two charts.
+void SceneGpu::loadLightmaps(const LightmapArray& lightmaps) {
+    if (lightmaps.layers == 0) return;
+    lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
+    const GLuint id = lightmaps_.id();
+    glTextureStorage3D(id, 2, GL_RGBA8, lightmaps.size, lightmaps.size, lightmaps.layers);
+    glTextureSubImage3D(id, 0, 0, 0, 0, lightmaps.size, lightmaps.size, lightmaps.layers, GL_RGBA, GL_UNSIGNED_BYTE,
+                        lightmaps.rgba.data());
+    glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, 1);
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenerateTextureMipmap(id);
+    baked_ = true;
+}
+
+// The bake's overlook depth (metres below `top`) in place of the one drawn at load.
+void SceneGpu::loadOverlook(const OverlookDepth& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    overlook_ = gl::makeTexture2D(GL_R32F, o.width, o.height, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    glTextureSubImage2D(overlook_.id(), 0, 0, 0, o.width, o.height, GL_RED, GL_FLOAT, o.depth.data());
+    overlookArea_ = glm::vec4(o.origin, glm::max(o.extent, glm::vec2(1e-3f)));
+    overlookDepth_ = glm::vec4(o.top, 0.0f, 1.0f, 0.0f);
+    overlookMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    bakedOverlook_ = true;
 }
 
 void SceneGpu::loadVat(const DestructionInstance& d) {
@@ -332,6 +380,7 @@ void SceneGpu::bindShared() {
     glBindTextureUnit(0, atlas_.id());
     glBindTextureUnit(1, rooms_.id());
     glBindTextureUnit(2, roomMiddle_.id());
+    glBindTextureUnit(8, lightmaps_.id());
     glBindTextureUnit(6, overlook_.id());
     glBindTextureUnit(7, shadowMap_.id());
 }

@@ -4,6 +4,7 @@
 // the destruction VATs, the ocean grid, the shadow map and the overlook depth.
 #include "gl.hpp"
 
+#include <dawnforge/runtime/lightmaps.hpp>
 #include <dawnforge/runtime/ocean.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/scene_file.hpp>
@@ -15,13 +16,14 @@
 
 namespace dawnforge::runtime {
 
-// Per-vertex data of static meshes (buildings, ground): 52 bytes.
+// Per-vertex data of static meshes (buildings, ground): 64 bytes.
 struct StaticVertex {
     glm::vec3 position;
     glm::vec3 normal;
     glm::vec2 uv0, uv1, uv2;
     std::uint8_t material;
     std::uint8_t pad[3];
+    glm::vec3 light;  // baked lightmap: (u, v, layer) in the lightmap array; layer < 0: none
 };
 
 // Per-instance data: the material → atlas block mapping (16 codes, one byte each) and the
@@ -50,6 +52,7 @@ public:
     glm::vec4 overlookArea() const { return overlookArea_; }
     glm::vec4 overlookDepthRange() const { return overlookDepth_; }
     double overlookMs() const { return overlookMs_; }
+    bool baked() const { return baked_; }
     void bindShared();
 
     // Each returns the number of draw calls it made.
@@ -86,6 +89,8 @@ private:
     };
 
     void loadCity(const std::filesystem::path& cityDir);
+    void loadLightmaps(const LightmapArray& lightmaps);
+    void loadOverlook(const OverlookDepth& overlook);
     void loadVat(const DestructionInstance& instance);
     void loadOcean(const OceanSettings& settings);
     void renderOverlook();
@@ -101,6 +106,8 @@ private:
     gl::VertexArray vao_;
     gl::Program surface_, surfaceDepth_, vat_, vatDepth_, ocean_;
     gl::Texture atlas_, rooms_, roomMiddle_;
+    gl::Texture lightmaps_;      // baked lighting (lightmaps.hpp); a 1×1 black layer without a bake
+    bool baked_ = false, bakedOverlook_ = false;
     int roomStyles_ = 1;
     gl::Buffer materialsUbo_;
     std::vector<Vat> vats_;
