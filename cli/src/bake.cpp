@@ -1,5 +1,6 @@
 // dawnforge bake CITY_DIR: lightmaps, overlook maps and proxies into CITY_DIR/bake/.
 #include "commands.hpp"
+#include "folders.hpp"
 
 #include <dawnforge/bake/bake.hpp>
 #include <dawnforge/core/error.hpp>
@@ -17,9 +18,9 @@ struct BakeOptions {
     bake::BakeSettings settings;
 };
 
-// Bakes `cityDir` with progress on stderr and a summary on stdout; a budget error names the
-// option that fixes it.
-void bakeWithSummary(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common) {
+}  // namespace
+
+void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common) {
     bake::BakeReport report;
     try {
         StderrProgress progress = progressFor("bake", common);
@@ -38,30 +39,29 @@ void bakeWithSummary(const std::filesystem::path& cityDir, const bake::BakeSetti
     std::printf("  wrote %s\n", (cityDir / "bake").string().c_str());
 }
 
-}  // namespace
-
-void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common) {
-    bakeWithSummary(cityDir, settings, common);
-}
-
 Command addBake(CLI::App& app, CommonOptions& common) {
     auto o = std::make_shared<BakeOptions>();
     bake::BakeSettings& s = o->settings;
     CLI::App* cmd = app.add_subcommand(
         "bake", "Bake lightmaps (sky, sun bounce, AO, lamps), overlook maps and proxies next to a city: CITY_DIR/bake/");
     cmd->add_option("CITY_DIR", o->cityDir, "A folder written by dawnforge city (city.glb, city.json)")->required();
-    cmd->add_option("--texel", s.texel, "Metres per lightmap texel on buildings (LOD1 shells: twice that)")->capture_default_str();
-    cmd->add_option("--interior-texel", s.interiorTexel, "Metres per lightmap texel in rooms")->capture_default_str();
-    cmd->add_option("--ground-texel", s.groundTexel, "Metres per lightmap texel on the ground")->capture_default_str();
-    cmd->add_option("--samples", s.samples, "Hemisphere rays per texel per pass")->capture_default_str();
-    cmd->add_option("--sun-samples", s.sunSamples, "Sun positions per texel along the day's path")->capture_default_str();
-    cmd->add_option("--bounces", s.bounces, "Bounces of sky, sun and lamp light")->capture_default_str();
-    cmd->add_option("--ao-radius", s.aoRadius, "Ambient-occlusion radius in metres")->capture_default_str();
-    cmd->add_option("--memory-budget", s.memoryBudgetMb, "Refuse settings that need more memory than this (MB)")->capture_default_str();
+    cmd->add_option("--texel", s.texel, "Metres per lightmap texel on buildings (LOD1 shells: twice that)")
+        ->check(CLI::Range(0.01, 10.0))->capture_default_str();
+    cmd->add_option("--interior-texel", s.interiorTexel, "Metres per lightmap texel in rooms")
+        ->check(CLI::Range(0.01, 10.0))->capture_default_str();
+    cmd->add_option("--ground-texel", s.groundTexel, "Metres per lightmap texel on the ground")
+        ->check(CLI::Range(0.05, 50.0))->capture_default_str();
+    cmd->add_option("--samples", s.samples, "Hemisphere rays per texel per pass")->check(CLI::Range(1, 65536))->capture_default_str();
+    cmd->add_option("--sun-samples", s.sunSamples, "Sun positions per texel along the day's path")
+        ->check(CLI::Range(1, 4096))->capture_default_str();
+    cmd->add_option("--bounces", s.bounces, "Bounces of sky, sun and lamp light")->check(CLI::Range(0, 16))->capture_default_str();
+    cmd->add_option("--ao-radius", s.aoRadius, "Ambient-occlusion radius in metres")->check(CLI::Range(0.001, 100.0))->capture_default_str();
+    cmd->add_option("--memory-budget", s.memoryBudgetMb, "Refuse settings that need more memory than this (MB)")
+        ->check(CLI::Range(64.0, 1e9))->capture_default_str();
     cmd->add_option("--seed", s.seed, "Random seed of the ray directions")->capture_default_str();
     addThreadsOption(*cmd, common);
     return {cmd, [o, &common] {
-                bakeWithSummary(o->cityDir, o->settings, common);
+                bakeCityFolder(o->cityDir, o->settings, common);
                 return 0;
             }};
 }

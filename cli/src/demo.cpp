@@ -1,5 +1,5 @@
-// dawnforge demo: the whole pipeline on built-in defaults, each stage written with the same
-// writers as its own command.
+// dawnforge demo: the whole pipeline on built-in defaults (district, its bake, the tower's
+// destruction, the scene and a picture), each stage written with the same writers as its own command.
 #include "commands.hpp"
 #include "folders.hpp"
 
@@ -24,6 +24,7 @@ namespace {
 struct DemoOptions {
     std::filesystem::path outputDir;
     int floors = 8;
+    bake::BakeSettings bake;  // the district's baked lighting
 };
 
 constexpr double kStorey = 3.2;  // storey height of the tower (m)
@@ -134,6 +135,7 @@ void renderDemo(const DemoOptions& options, const procgen::CityPlan& plan) {
 int runDemo(const DemoOptions& options, const CommonOptions& common) {
     ensureOutputDirectory(options.outputDir);
     const procgen::CityPlan plan = demoCity(options, common);
+    bakeCityFolder(options.outputDir / "city", options.bake, common);
     const sim::FractureResult pieces = fractureTower(options);
     const std::vector<sim::RigidPiece> rigid = sim::rigidPieces(pieces);
     const sim::SimulationResult motion = simulateTower(options, pieces, rigid, common);
@@ -149,6 +151,13 @@ Command addDemo(CLI::App& app, CommonOptions& common) {
     CLI::App* cmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
     cmd->add_option("--floors", o->floors, "Floors of the demo tower")->check(CLI::Range(1, 200))->capture_default_str();
+    cmd->add_option("--bake-texel", o->bake.texel, "Lightmap texel of the district's bake (m; see dawnforge bake --texel)")
+        ->check(CLI::Range(0.01, 10.0))->capture_default_str();
+    cmd->add_option("--bake-interior-texel", o->bake.interiorTexel, "Lightmap texel in rooms (m)")
+        ->check(CLI::Range(0.01, 10.0))->capture_default_str();
+    cmd->add_option("--bake-samples", o->bake.samples, "Hemisphere rays per texel per pass of the bake")
+        ->check(CLI::Range(1, 65536))->capture_default_str();
+    cmd->add_option("--bake-bounces", o->bake.bounces, "Bounces of the bake")->check(CLI::Range(0, 16))->capture_default_str();
     addThreadsOption(*cmd, common);
     return {cmd, [o, &common] { return runDemo(*o, common); }};
 }

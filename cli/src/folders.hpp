@@ -3,6 +3,7 @@
 // by the demo (ARCHITECTURE.md, File formats).
 #include "options.hpp"
 
+#include <dawnforge/bake/bake.hpp>
 #include <dawnforge/procgen/city.hpp>
 #include <dawnforge/sim/fracture.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
@@ -17,6 +18,9 @@ namespace dawnforge::cli {
 // summary; returns the district's plan (streets, coast, blocks, lots).
 procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const std::filesystem::path& dir,
                                   const CommonOptions& common);
+
+// Bakes CITY_DIR/bake/ with progress and a summary; a budget error names the options that fix it.
+void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common);
 
 // DIR/fragments.glb and DIR/fracture.json; `input` names the mesh in fracture.json.
 void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,

@@ -1,6 +1,7 @@
 // End-to-end tests of the dawnforge executable, as a user runs it.
 #include "test_support.hpp"
 
+#include <dawnforge/bake/bake.hpp>
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
@@ -38,6 +39,9 @@ void expectBadInput(const std::vector<std::string>& args, const std::string& men
     EXPECT_NE(r.err.find(mention), std::string::npos) << cmd << "\n" << r.err;
     EXPECT_TRUE(r.out.empty()) << cmd << "\n" << r.out;
 }
+
+// The demo's bake at its coarsest: seconds instead of a minute (the bake's own tests check quality).
+const std::string kQuickBake[8] = {"--bake-texel", "1", "--bake-interior-texel", "2", "--bake-samples", "4", "--bake-bounces", "1"};
 
 }  // namespace
 
@@ -78,6 +82,7 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
     const exporters::VatSettings v;
     const procgen::CitySettings c;
     const runtime::RendererOptions ro;
+    const bake::BakeSettings b;
     const std::string imageSize = shown(ro.size.x) + "x" + shown(ro.size.y);
     // Options the command line alone has (no library setting) are listed with their own value.
     const std::map<std::string, std::map<std::string, std::string>> expected{
@@ -104,7 +109,14 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
           {"--tile-size", shown(c.tileSize)}, {"--threads", "0"}}},
         {"render", {{"--size", imageSize}, {"--repeat", "5"}}},
         {"view", {{"--size", imageSize}, {"--frames", "0"}}},
-        {"demo", {{"--floors", "8"}, {"--threads", "0"}}},
+        {"demo",
+         {{"--floors", "8"}, {"--threads", "0"}, {"--bake-texel", shown(b.texel)}, {"--bake-interior-texel", shown(b.interiorTexel)},
+          {"--bake-samples", shown(b.samples)}, {"--bake-bounces", shown(b.bounces)}}},
+        {"bake",
+         {{"--texel", shown(b.texel)}, {"--interior-texel", shown(b.interiorTexel)}, {"--ground-texel", shown(b.groundTexel)},
+          {"--samples", shown(b.samples)}, {"--sun-samples", shown(b.sunSamples)}, {"--bounces", shown(b.bounces)},
+          {"--ao-radius", shown(b.aoRadius)}, {"--memory-budget", shown(b.memoryBudgetMb)}, {"--seed", shown(double(b.seed))},
+          {"--threads", "0"}}},
         {"inspect", {}},
     };
     for (const auto& [command, options] : expected) EXPECT_EQ(helpDefaults(command), options) << command;
@@ -121,8 +133,16 @@ TEST(Cli, QuietWorksBeforeAndAfterTheCommand) {
     EXPECT_EQ(test::readBytes(dir / "a" / "city.glb"), test::readBytes(dir / "b" / "city.glb"));
 }
 
-TEST(Cli, CommandsNotBuiltYetSaySoAndExit2) {
-    expectBadInput({"bake", "-o", "x"}, "not built yet");
+TEST(Cli, BakeBadInputExits2AndWritesNothing) {
+    TempDir dir;
+    expectBadInput({"bake", (dir / "missing").string()}, "missing");
+    std::filesystem::create_directories(dir / "empty");
+    expectBadInput({"bake", (dir / "empty").string()}, "city.glb");
+    expectBadInput({"bake", (dir / "empty").string(), "--texel", "0"}, "--texel");
+    expectBadInput({"bake", (dir / "empty").string(), "--samples", "0"}, "--samples");
+    expectBadInput({"bake", (dir / "empty").string(), "--bounces", "many"}, "--bounces");
+    EXPECT_EQ(dir.entries(), std::vector<std::string>{"empty"});
+    EXPECT_TRUE(std::filesystem::is_empty(dir / "empty"));
 }
 
 TEST(Cli, UnknownOptionsAndCommandsAreBadInput) {
@@ -198,11 +218,13 @@ TEST(Cli, FailedRepairLeavesNoOutput) {
 
 TEST(Cli, DemoWritesAValidSceneDeterministically) {
     TempDir dir;
-    const RunResult a = test::runDawnforge({"demo", "-o", (dir / "a").string()});
+    const RunResult a = test::runDawnforge({"demo", "-o", (dir / "a").string(), kQuickBake[0], kQuickBake[1], kQuickBake[2], kQuickBake[3],
+                                            kQuickBake[4], kQuickBake[5], kQuickBake[6], kQuickBake[7]});
     ASSERT_EQ(a.exitCode, 0) << a.err;
     EXPECT_NE(a.out.find("fragments.glb"), std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(dir / "a" / "scene.glb"));  // nothing reads it: not written
-    const RunResult b = test::runDawnforge({"demo", "-o", (dir / "b").string(), "--quiet"});
+    const RunResult b = test::runDawnforge({"demo", "-o", (dir / "b").string(), "--quiet", kQuickBake[0], kQuickBake[1], kQuickBake[2],
+                                            kQuickBake[3], kQuickBake[4], kQuickBake[5], kQuickBake[6], kQuickBake[7]});
     ASSERT_EQ(b.exitCode, 0) << b.err;
     const auto glbA = test::readBytes(dir / "a" / "fracture" / "fragments.glb");
     EXPECT_GT(glbA.size(), 1000u);
@@ -220,6 +242,8 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
 
 TEST(Cli, DemoBadOptionsExit2) {
     TempDir dir;
+    expectBadInput({"demo", "-o", (dir / "d").string(), "--bake-texel", "0"}, "--bake-texel");
+    expectBadInput({"demo", "-o", (dir / "d").string(), "--bake-samples", "0"}, "--bake-samples");
     expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "0"}, "--floors");
     expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "-3"}, "--floors");
     expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "many"}, "--floors");
@@ -438,7 +462,8 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
 
 TEST(CliDemo, BakesTheTowerDestruction) {
     TempDir dir;
-    const RunResult r = test::runDawnforge({"--quiet", "demo", "-o", dir.path().string(), "--floors", "4"});
+    const RunResult r = test::runDawnforge({"--quiet", "demo", "-o", dir.path().string(), "--floors", "4", kQuickBake[0], kQuickBake[1],
+                                            kQuickBake[2], kQuickBake[3], kQuickBake[4], kQuickBake[5], kQuickBake[6], kQuickBake[7]});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json sim = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
     EXPECT_GT(sim["glue"]["broken"].get<int>(), 0);
