@@ -4,7 +4,9 @@
 //   build/bin/bake_bench --benchmark_filter=RawRays     Embree's incoherent closest-hit rate on
 //                                                       the district's ray scene (the ceiling)
 //   build/bin/bake_bench --benchmark_filter=Bake        the whole bake at default settings, with
-//                                                       its own rays/s against that ceiling
+//                                                       its own rays/s against that ceiling, its
+//                                                       CPU seconds (fair on a shared machine) and
+//                                                       the process's peak memory
 // Wall time, every core (TBB and Embree share them).
 #include <dawnforge/bake/bake.hpp>
 #include <dawnforge/bake/ray_scene.hpp>
@@ -14,6 +16,8 @@
 #include <dawnforge/procgen/city.hpp>
 
 #include <benchmark/benchmark.h>
+
+#include <sys/resource.h>
 
 #include <filesystem>
 #include <fstream>
@@ -82,8 +86,18 @@ BENCHMARK(RawRays)->Arg(1)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->It
 void Bake(benchmark::State& state) {
     const std::filesystem::path& city = district();
     bake::BakeReport r;
-    for (auto _ : state) r = bake::bakeCity(city, bake::BakeSettings{});
+    double cpu = 0.0;
+    for (auto _ : state) {
+        const double cpu0 = bake::processCpuSeconds();
+        r = bake::bakeCity(city, bake::BakeSettings{});
+        cpu = bake::processCpuSeconds() - cpu0;
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
     state.counters["Mrays_per_s"] = double(r.lighting.rays) / r.lighting.raySeconds / 1e6;
+    state.counters["cpu_s"] = cpu;
+    state.counters["bake_s"] = r.seconds;
+    state.counters["peak_MB"] = double(usage.ru_maxrss) / 1024.0;
     state.counters["rays_M"] = double(r.lighting.rays) / 1e6;
     state.counters["texels_M"] = double(r.texels) / 1e6;
     state.counters["ray_s"] = r.lighting.raySeconds;
