@@ -44,6 +44,10 @@ Command addBake(CLI::App& app, CommonOptions& common) {
     bake::BakeSettings& s = o->settings;
     CLI::App* cmd = app.add_subcommand(
         "bake", "Bake lightmaps (sky, sun bounce, AO, lamps), overlook maps and proxies next to a city: CITY_DIR/bake/");
+    cmd->footer(
+        "Writes CITY_DIR/bake/: bake.json, one RGBA lightmap (.png: R sky, G sun bounce, B AO, A lamps) and its UV set "
+        "(.uv) per building and ground tile, overlook.exr (depth, ground and roof heights) and proxies.json. render, "
+        "view and demo use it when it is there. A failed bake leaves the old folder (or none) and nothing half-written.");
     cmd->add_option("CITY_DIR", o->cityDir, "A folder written by dawnforge city (city.glb, city.json)")->required();
     cmd->add_option("--texel", s.texel, "Metres per lightmap texel on buildings (LOD1 shells: twice that)")
         ->check(CLI::Range(0.01, 10.0))->capture_default_str();

@@ -1,5 +1,6 @@
 // The runtime's baked lighting (ARCHITECTURE.md section 7): a tower on open ground, baked by
 // bake::bakeCity, drawn with and without its bake on llvmpipe.
+#include "golden.hpp"
 #include "test_support.hpp"
 
 #include <dawnforge/bake/bake.hpp>
@@ -114,6 +115,9 @@ TEST(BakedRender, OpenGroundLooksTheSameAndTheTowersFootIsDarker) {
     TempDir dir;
     const std::filesystem::path city = bakedTower(dir);
     const exporters::Image baked = render(city, 13.0);
+    // The golden image's tolerances are the other render tests' (golden.hpp): llvmpipe and the
+    // bake are both deterministic, so any change is a change of the shading or of the bake.
+    test::expectGolden("baked_tower", baked);
     if (std::getenv("DAWNFORGE_KEEP_PICTURES")) exporters::writePng(baked, "/tmp/dawnforge_baked_tower.png");
     std::filesystem::rename(city / "bake", dir / "bake.off");
     const exporters::Image plain = render(city, 13.0);

@@ -14,6 +14,7 @@
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/context.hpp>
+#include "golden.hpp"
 #include "gpu_checks.hpp"
 #include <dawnforge/runtime/ocean.hpp>
 #include <dawnforge/runtime/renderer.hpp>
@@ -30,6 +31,7 @@ using namespace dawnforge;
 using namespace dawnforge::exporters;
 using namespace dawnforge::runtime;
 using dawnforge::test::TempDir;
+using dawnforge::test::expectGolden;
 
 namespace {
 
@@ -90,38 +92,6 @@ Image render(const SceneFile& scene, const FrameSettings& frame, FrameStats* sta
     Image image = renderer.readPixels(&s);
     if (stats) *stats = s;
     return image;
-}
-
-void expectGolden(const std::string& name, const Image& image) {
-    const auto file = test::dataFile("golden/" + name + ".png");
-    if (std::getenv("DAWNFORGE_UPDATE_GOLDEN")) {
-        std::filesystem::create_directories(file.parent_path());
-        writePng(image, file);
-        GTEST_SKIP() << "rewrote " << file;
-    }
-    ASSERT_TRUE(std::filesystem::exists(file)) << file << " is missing (DAWNFORGE_UPDATE_GOLDEN=1 makes it)";
-    const Image golden = readPng(file);
-    ASSERT_EQ(golden.width, image.width);
-    ASSERT_EQ(golden.height, image.height);
-    std::size_t different = 0;
-    double sum = 0.0;
-    for (std::size_t p = 0; p < image.rgba.size(); p += 4) {
-        int worst = 0;
-        for (std::size_t c = 0; c < 3; ++c) {
-            const int d = std::abs(int(image.rgba[p + c]) - int(golden.rgba[p + c]));
-            worst = std::max(worst, d);
-            sum += d;
-        }
-        if (worst > 8) ++different;
-    }
-    const double pixels = double(image.rgba.size() / 4);
-    const double mean = sum / (3.0 * pixels);
-    if (double(different) > 0.005 * pixels || mean > 1.0) {
-        const auto actual = std::filesystem::temp_directory_path() / ("dawnforge_" + name + ".png");
-        writePng(image, actual);
-        ADD_FAILURE() << name << ": " << different << " pixels differ, mean difference " << mean << " (actual image: " << actual
-                      << ")";
-    }
 }
 
 // Mean colour of a rectangle of the image (x0, y0 from the top-left, exclusive ends).

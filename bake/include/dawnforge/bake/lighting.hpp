@@ -98,7 +98,7 @@ glm::ivec2 roomTableSize(std::uint32_t rooms);                  // texels; (0,0)
 glm::ivec2 roomTexel(glm::ivec2 tableOrigin, std::uint32_t slot);  // the block's first texel
 
 struct LightingSettings {
-    int samples = 64;         // hemisphere rays per texel per pass (direct, each bounce)
+    int samples = 32;         // hemisphere rays per texel per pass (direct, each bounce)
     int sunSamples = 16;      // sun positions per texel along the day's path
     int bounces = 2;          // gathers after the direct pass
     int roomSamples = 256;    // rays per room for the room table
