@@ -523,6 +523,34 @@ TEST(CliCity, SameBytesOnOneAndTwoThreadsAndATileMatchesTheCity) {
     EXPECT_GT(compared, 3u);
 }
 
+// `dawnforge bake` as a user runs it: the same bytes on 1 and 2 threads, a summary, and a
+// render that refuses a bake made from another city.glb with one line.
+TEST(CliBake, SameBytesOnAnyThreadCountAndTheRendererRefusesAnotherCitysBake) {
+    TempDir dir;
+    const std::vector<std::string> quick{"--texel", "0.5", "--interior-texel", "1", "--ground-texel", "2", "--samples", "8",
+                                         "--sun-samples", "4", "--bounces", "1"};
+    for (const char* name : {"one", "two"}) {
+        ASSERT_EQ(test::runDawnforge({"-q", "city", "-o", (dir / name).string(), "--size", "120x100"}).exitCode, 0);
+        std::vector<std::string> args{"bake", (dir / name).string(), "--threads", name[0] == 'o' ? "1" : "2"};
+        args.insert(args.end(), quick.begin(), quick.end());
+        const RunResult r = test::runDawnforge(args);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_NE(r.out.find("Mrays/s"), std::string::npos) << r.out;
+    }
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir / "one" / "bake")) {
+        EXPECT_EQ(test::readBytes(e.path()), test::readBytes(dir / "two" / "bake" / e.path().filename())) << e.path().filename();
+        ++files;
+    }
+    EXPECT_GT(files, 10u);
+    // Another city under the same bake: the renderer says so and exits 2.
+    ASSERT_EQ(test::runDawnforge({"-q", "city", "-o", (dir / "other").string(), "--size", "120x100", "--seed", "2"}).exitCode, 0);
+    std::filesystem::copy_file(dir / "other" / "city.glb", dir / "two" / "city.glb", std::filesystem::copy_options::overwrite_existing);
+    test::writeText(dir / "scene.json", R"({"format": "dawnforge.scene", "version": 1, "city": "two"})");
+    expectBadInput({"render", (dir / "scene.json").string(), "-o", (dir / "x.png").string()}, "another city.glb");
+    EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
+}
+
 TEST(CliCity, RecipesFromTheExamplesWork) {
     TempDir dir;
     for (const char* name : {"downtown", "coastal_town"}) {
