@@ -31,7 +31,6 @@
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -212,9 +211,10 @@ Topology analyse(const std::vector<Polygon>& faces, std::size_t pointCount) {
 
 // A soup that is manifold and consistently oriented, as a Surface_mesh whose face i is
 // polygon i; points that no polygon uses are left out (CGAL's algorithms expect none).
+// Throws InputError(`failure`) when the soup is not such a soup.
 // Built face by face rather than with polygon_soup_to_polygon_mesh(), whose precondition
 // check (on, with CGAL's assertions) costs as much as orienting the soup again.
-SurfaceMesh toSurfaceMesh(const Soup& soup) {
+SurfaceMesh toSurfaceMesh(const Soup& soup, const char* failure = "the triangles do not form a manifold surface") {
     SurfaceMesh sm;
     std::vector<Vertex> vertex(soup.points.size());
     sm.reserve(static_cast<SurfaceMesh::size_type>(soup.points.size()),
@@ -226,8 +226,7 @@ SurfaceMesh toSurfaceMesh(const Soup& soup) {
     for (std::size_t i = 0; i < soup.points.size(); ++i)
         if (used[i]) vertex[i] = sm.add_vertex(soup.points[i]);
     for (const Polygon& p : soup.polygons)
-        if (sm.add_face(vertex[p[0]], vertex[p[1]], vertex[p[2]]) == SurfaceMesh::null_face())
-            throw std::logic_error("a face of an oriented manifold soup could not be added to the mesh");
+        if (sm.add_face(vertex[p[0]], vertex[p[1]], vertex[p[2]]) == SurfaceMesh::null_face()) throw InputError(failure);
     return sm;
 }
 
@@ -513,6 +512,8 @@ void fillWithFan(SurfaceMesh& sm, Halfedge h) {
             throw InputError("the repair could not fill a hole of the mesh");
 }
 
+constexpr std::size_t kMaxCubicHoleEdges = 64;
+
 // A crack left by a cut is a few edges long; a longer one means the cut went wrong.
 constexpr std::size_t kMaxCrackEdges = 64;
 
@@ -523,9 +524,13 @@ std::size_t fillHoles(SurfaceMesh& sm, std::size_t maxEdges = kNone) {
     std::size_t filled = 0;
     for (Halfedge h : holes) {
         const auto border = CGAL::halfedges_around_face(h, sm);
-        if (static_cast<std::size_t>(std::distance(border.begin(), border.end())) > maxEdges) continue;
+        const auto edges = static_cast<std::size_t>(std::distance(border.begin(), border.end()));
+        if (edges > maxEdges) continue;
         std::vector<Face> patch;
-        PMP::triangulate_hole(sm, h, std::back_inserter(patch));
+        // Where the Delaunay-based search finds nothing, CGAL falls back to a search cubic
+        // in the hole's length: seconds for a few hundred edges. Past 64, a fan does.
+        PMP::triangulate_hole(sm, h, std::back_inserter(patch),
+                              CGAL::parameters::do_not_use_cubic_algorithm(edges > kMaxCubicHoleEdges));
         if (patch.empty()) fillWithFan(sm, h);
         ++filled;
     }
@@ -711,6 +716,12 @@ std::size_t separateCoincidentVertices(SurfaceMesh& sm) {
     return shared;
 }
 
+bool onFloatGrid(const Point& point) {
+    const Point p = point;  // a copy: see roundToFloat()
+    const glm::vec3 f(p.x(), p.y(), p.z());
+    return double(f.x) == p.x() && double(f.y) == p.y() && double(f.z) == p.z();
+}
+
 // The mesh again from its faces, with coincident points merged (so the two sides of a
 // cut are stitched), duplicate faces and coincident opposite pairs dropped, non-manifold
 // points split and the copies moved apart.
@@ -719,11 +730,12 @@ void rebuild(SurfaceMesh& sm) {
     PMP::repair_polygon_soup(soup.points, soup.polygons, CGAL::parameters::require_same_orientation(true));
     removeOppositePairs(soup.polygons);
     if (soup.polygons.empty()) throw InputError(flatMessage(Flatness::Plane));
-    PMP::orient_polygon_soup(soup.points, soup.polygons);
-    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons))
-        throw InputError("the repair failed: the surface left after resolving the self-intersections cannot be "
-                         "oriented consistently");
-    sm = toSurfaceMesh(soup);
+    if (const Topology topo = analyse(soup.polygons, soup.points.size());
+        !topo.manifold() || !topo.consistentlyOriented)
+        PMP::orient_polygon_soup(soup.points, soup.polygons);
+    sm = toSurfaceMesh(soup,
+                       "the repair failed: the surface left after resolving the self-intersections cannot be "
+                       "oriented consistently");
     separateCoincidentVertices(sm);
     // Cutting along the intersections leaves slivers (a new vertex a hair from an old one,
     // a triangle a hair high) that rounding to float would fold over: collapse the edges
@@ -734,8 +746,16 @@ void rebuild(SurfaceMesh& sm) {
         hi = glm::max(hi, vec(sm.point(v)));
     }
     const double tiny = 1e-5 * glm::length(hi - lo);
-    PMP::experimental::remove_almost_degenerate_faces(sm, std::cos(175.0 * 3.14159265358979 / 180.0), 10.0, tiny,
-                                                      CGAL::parameters::flip_triangle_height_threshold(tiny));
+    std::vector<Face> nearCuts;  // faces with a vertex off the float grid: a point made by the cut
+    for (Face f : sm.faces())
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm))
+            if (!onFloatGrid(sm.point(v))) {
+                nearCuts.push_back(f);
+                break;
+            }
+    if (nearCuts.empty()) return;
+    PMP::experimental::remove_almost_degenerate_faces(nearCuts, sm, std::cos(175.0 * 3.14159265358979 / 180.0), 10.0,
+                                                      tiny, CGAL::parameters::flip_triangle_height_threshold(tiny));
     sm.collect_garbage();
 }
 
@@ -835,6 +855,54 @@ std::size_t separatePinches(Soup& soup) {
     return topo.nonManifoldVertices;
 }
 
+// inspectMesh(); `selfIntersecting`, when given, is already known and not checked again.
+MeshReport inspect(const Mesh& mesh, std::optional<bool> selfIntersecting) {
+    MeshReport r;
+    r.triangles = mesh.triangleCount();
+    r.attributeVertices = mesh.vertexCount();
+    r.bounds = computeBounds(mesh.positions);
+
+    std::size_t repeated = 0;
+    Soup soup = weldedSoup(mesh, &repeated);
+    r.vertices = soup.points.size();
+    r.degenerateTriangles = repeated;
+    for (const Polygon& t : soup.polygons) {
+        const Point &a = soup.points[t[0]], &b = soup.points[t[1]], &c = soup.points[t[2]];
+        if (CGAL::collinear(a, b, c)) ++r.degenerateTriangles;
+        r.area += std::sqrt(CGAL::to_double(Kernel::Triangle_3(a, b, c).squared_area()));
+    }
+
+    const Topology topo = analyse(soup.polygons, soup.points.size());
+    for (const auto& [a, b] : topo.openEdges) r.openEdges.emplace_back(vec(soup.points[a]), vec(soup.points[b]));
+    r.boundaryEdges = topo.boundaryEdges;
+    r.nonManifoldEdges = topo.nonManifoldEdges;
+    r.nonManifoldVertices = topo.nonManifoldVertices;
+    r.components = topo.components;
+    r.closed = !soup.polygons.empty() && topo.closed();
+    r.manifold = topo.manifold();
+    r.consistentlyOriented = r.manifold && topo.consistentlyOriented;
+
+    try {
+        if (r.manifold && r.consistentlyOriented) {
+            SurfaceMesh sm = toSurfaceMesh(soup);
+            r.selfIntersecting = selfIntersecting ? *selfIntersecting : PMP::does_self_intersect(sm);
+            if (r.closed) {
+                r.volume = signedVolume(soup, centre(soup.points));
+                const std::vector<bool> reverse = shellsToReverse(findShells(sm));
+                r.outwardOriented = std::find(reverse.begin(), reverse.end(), true) == reverse.end();
+            }
+        } else {
+            // Split non-manifold vertices and fix orientation so that CGAL can build a
+            // mesh; faces meeting only at a split vertex or edge then count as touching.
+            PMP::orient_polygon_soup(soup.points, soup.polygons);
+            r.selfIntersecting = PMP::does_self_intersect(toSurfaceMesh(soup));
+        }
+    } catch (const std::exception& e) {
+        throw InputError(format("the geometric checks failed on this mesh: {}", oneLine(e.what())));
+    }
+    return r;
+}
+
 // What is wrong with a mesh that should bound a volume, as one clause; empty when nothing.
 std::string whatIsWrong(const MeshReport& r) {
     std::vector<std::string> wrong;
@@ -899,9 +967,7 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     if (soup.points.size() != beforeOrient)
         rep.actions.push_back(format("split {} where the surface is not manifold",
                                      counted(soup.points.size() - beforeOrient, "point", "points")));
-    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons))
-        throw InputError("the repair failed: CGAL could not orient the triangles consistently");
-    SurfaceMesh sm = toSurfaceMesh(soup);
+    SurfaceMesh sm = toSurfaceMesh(soup, "the repair failed: CGAL could not orient the triangles consistently");
     auto intent = sm.add_property_map<Face, std::int8_t>("f:dawnforge_intent", 0).first;
     for (std::size_t i = 0; i < soup.polygons.size(); ++i)
         intent[Face(static_cast<SurfaceMesh::size_type>(i))] = reversed[i] ? -1 : 1;
@@ -942,6 +1008,7 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     // rounded to float, as it will be stored; should that make triangles cross again,
     // resolve again. Without self-intersections, shells nested inside the solid still go.
     stage = "resolving self-intersections";
+    roundToFloat(sm);  // collapsing degenerate triangles and filling holes may place points off the grid
     bool intersecting = PMP::does_self_intersect(sm);
     bool resolved = false;
     std::size_t removed = 0;
@@ -1009,15 +1076,21 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
 
     stage = "checking the result";
     Mesh out = toMesh(toSoup(sm), mesh.name);
+    // When welding changes nothing, the result is the mesh just checked for
+    // self-intersections (its points are floats already): no need to check again.
+    std::optional<bool> known = intersecting;
     {
-        Soup welded = weldedSoup(out, nullptr);
+        std::size_t repeated = 0;
+        Soup welded = weldedSoup(out, &repeated);
+        if (repeated > 0 || welded.points.size() != out.positions.size()) known.reset();
         if (const std::size_t pinches = separatePinches(welded)) {
             rep.actions.push_back(
                 format("moved apart {} where separate parts touched", counted(pinches, "point", "points")));
             out = toMesh(welded, mesh.name);
+            known.reset();
         }
     }
-    const MeshReport r = inspectMesh(out);
+    const MeshReport r = inspect(out, known);
     if (const std::string wrong = whatIsWrong(r); !wrong.empty())
         throw InputError(format("the repair failed: {}", wrong));
     const double size = glm::length(r.bounds.max - r.bounds.min);
@@ -1043,54 +1116,7 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
 
 }  // namespace
 
-MeshReport inspectMesh(const Mesh& mesh) {
-    MeshReport r;
-    r.triangles = mesh.triangleCount();
-    r.attributeVertices = mesh.vertexCount();
-    r.bounds = computeBounds(mesh.positions);
-
-    std::size_t repeated = 0;
-    Soup soup = weldedSoup(mesh, &repeated);
-    r.vertices = soup.points.size();
-    r.degenerateTriangles = repeated;
-    for (const Polygon& t : soup.polygons) {
-        const Point &a = soup.points[t[0]], &b = soup.points[t[1]], &c = soup.points[t[2]];
-        if (CGAL::collinear(a, b, c)) ++r.degenerateTriangles;
-        r.area += std::sqrt(CGAL::to_double(Kernel::Triangle_3(a, b, c).squared_area()));
-    }
-
-    const Topology topo = analyse(soup.polygons, soup.points.size());
-    for (const auto& [a, b] : topo.openEdges) r.openEdges.emplace_back(vec(soup.points[a]), vec(soup.points[b]));
-    r.boundaryEdges = topo.boundaryEdges;
-    r.nonManifoldEdges = topo.nonManifoldEdges;
-    r.nonManifoldVertices = topo.nonManifoldVertices;
-    r.components = topo.components;
-    r.closed = !soup.polygons.empty() && topo.closed();
-    r.manifold = topo.manifold();
-    r.consistentlyOriented = r.manifold && topo.consistentlyOriented;
-
-    try {
-        if (r.manifold && r.consistentlyOriented) {
-            SurfaceMesh sm = toSurfaceMesh(soup);
-            r.selfIntersecting = PMP::does_self_intersect(sm);
-            if (r.closed) {
-                r.volume = signedVolume(soup, centre(soup.points));
-                const std::vector<bool> reverse = shellsToReverse(findShells(sm));
-                r.outwardOriented = std::find(reverse.begin(), reverse.end(), true) == reverse.end();
-            }
-        } else {
-            // Split non-manifold vertices and fix orientation so that CGAL can build a
-            // mesh; faces meeting only at a split vertex or edge then count as touching.
-            PMP::orient_polygon_soup(soup.points, soup.polygons);
-            SurfaceMesh sm;
-            PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, sm);
-            r.selfIntersecting = PMP::does_self_intersect(sm);
-        }
-    } catch (const std::exception& e) {
-        throw InputError(format("the geometric checks failed on this mesh: {}", oneLine(e.what())));
-    }
-    return r;
-}
+MeshReport inspectMesh(const Mesh& mesh) { return inspect(mesh, std::nullopt); }
 
 std::vector<std::string> orientMesh(Mesh& mesh) {
     std::vector<std::uint32_t> source;
