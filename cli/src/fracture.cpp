@@ -138,7 +138,7 @@ Command addFracture(CLI::App& app, CommonOptions& common) {
     auto options = std::make_shared<FractureOptions>();
     CLI::App* cmd =
         app.add_subcommand("fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json");
-    cmd->add_option("FILE", options->file, "Closed mesh (.obj, .gltf, .glb)")->required();
+    cmd->add_option("FILE", options->file, "Closed mesh: glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ... (metres, +Y up after import)")->required();
     cmd->add_option("-o,--output", options->outputDir, "Output folder")->required();
     addSeedOptions(*cmd, *options);
     addPieceOptions(*cmd, options->settings);

@@ -66,9 +66,9 @@ int runInspect(const InspectOptions& options) {
 Command addInspect(CLI::App& app, CommonOptions&) {
     auto options = std::make_shared<InspectOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "inspect", "Report on a mesh (OBJ, glTF, GLB) as JSON on stdout: triangles, vertices, closed, manifold, "
+        "inspect", "Report on a mesh as JSON on stdout: triangles, vertices, closed, manifold, "
                    "self_intersecting, volume, bbox_min, bbox_max, ...");
-    cmd->add_option("FILE", options->file, "Mesh file (.obj, .gltf, .glb)")->required();
+    cmd->add_option("FILE", options->file, "Mesh file: glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ...")->required();
     cmd->add_option("--repair", options->repairOutput,
                     "Also write a repaired copy (GLB): duplicate points merged, degenerate triangles "
                     "removed, orientation made consistent, borders stitched, holes filled");

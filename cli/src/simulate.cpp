@@ -115,7 +115,7 @@ Command addSimulate(CLI::App& app, CommonOptions& common) {
     cmd->add_flag("--no-ground", o->noGround, "No ground plane");
     cmd->add_option("--ground-height", o->settings.groundHeight,
                     "Ground plane height (m); default the lowest point of the pieces");
-    cmd->add_option("--collider", o->colliders, "Static collider mesh (.obj, .gltf, .glb), world space; repeatable");
+    cmd->add_option("--collider", o->colliders, "Static collider mesh (any format inspect reads), world space; repeatable");
     addThreadsOption(*cmd, common);
     return {cmd, [o, &common] { return runSimulate(*o, common); }};
 }

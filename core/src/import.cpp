@@ -1,23 +1,31 @@
-// Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf.
+// Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf (they keep what
+// dawnforge writes: material IDs in COLOR_0, piece IDs, node names), every other format
+// through Assimp (import_assimp.cpp).
+#include "import_assimp.hpp"
+
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <cstring>
-#include <dawnforge/core/format.hpp>
-#include <fstream>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
+#include <span>
 #include <sstream>
 
 namespace dawnforge {
@@ -70,10 +78,92 @@ void checkObjLines(const fs::path& file, const std::string& name) {
     }
 }
 
+// Splits a simple polygon (corners in order, planar or nearly so) into corners.size() - 2
+// triangles of local corner indices, wound as the polygon is, by ear clipping in the
+// plane of its Newell normal: right for non-convex faces, where a fan overlaps itself.
+// Only reflex corners can lie inside an ear, so a convex face costs O(n). A degenerate or
+// self-intersecting polygon still gets n - 2 triangles (what is left, as a fan).
+std::vector<std::array<std::uint32_t, 3>> triangulatePolygon(std::span<const glm::dvec3> corners) {
+    const auto n = static_cast<std::uint32_t>(corners.size());
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    if (n < 3) return triangles;
+    triangles.reserve(n - 2);
+    std::vector<std::uint32_t> next(n), prev(n);  // the corners not yet clipped, as a ring
+    for (std::uint32_t i = 0; i < n; ++i) {
+        next[i] = (i + 1) % n;
+        prev[i] = (i + n - 1) % n;
+    }
+    std::uint32_t remaining = n, cur = 0;
+    glm::dvec3 normal(0.0);  // Newell's method: right for non-convex and slightly warped polygons
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const glm::dvec3& a = corners[i];
+        const glm::dvec3& b = corners[next[i]];
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+    }
+    const double length = glm::length(normal);
+    if (n > 3 && length > 0.0 && std::isfinite(length)) {
+        // A basis (u, v) of the plane with u x v = normal: the polygon runs counter-clockwise in it.
+        const glm::dvec3 w = normal / length;
+        const glm::dvec3 helper = std::fabs(w.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 u = glm::normalize(glm::cross(helper, w));
+        const glm::dvec3 v = glm::cross(w, u);
+        std::vector<glm::dvec2> p(n);
+        for (std::uint32_t i = 0; i < n; ++i)
+            p[i] = {glm::dot(corners[i] - corners[0], u), glm::dot(corners[i] - corners[0], v)};
+        auto cross = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
+            return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+        };
+        auto convex = [&](std::uint32_t i) { return cross(p[prev[i]], p[i], p[next[i]]) > 0.0; };
+        std::vector<char> reflex(n, 0), clipped(n, 0);  // reflex: turns right or goes straight
+        std::vector<std::uint32_t> reflexCorners;
+        for (std::uint32_t i = 0; i < n; ++i)
+            if (!convex(i)) {
+                reflex[i] = 1;
+                reflexCorners.push_back(i);
+            }
+        auto isEar = [&](std::uint32_t i) {
+            if (reflex[i]) return false;
+            const glm::dvec2 a = p[prev[i]], b = p[i], c = p[next[i]];
+            for (std::uint32_t j : reflexCorners) {  // no reflex corner inside the ear or on its border
+                if (!reflex[j] || clipped[j] || j == prev[i] || j == next[i]) continue;
+                const glm::dvec2 q = p[j];
+                if (q == a || q == b || q == c) continue;  // a repeated point (a bridged hole) touches, not blocks
+                if (cross(a, b, q) >= 0.0 && cross(b, c, q) >= 0.0 && cross(c, a, q) >= 0.0) return false;
+            }
+            return true;
+        };
+        std::uint32_t sinceClip = 0;
+        while (remaining > 3 && sinceClip < remaining) {
+            if (!isEar(cur)) {
+                cur = next[cur];
+                ++sinceClip;
+                continue;
+            }
+            const std::uint32_t a = prev[cur], c = next[cur];
+            triangles.push_back({a, cur, c});
+            next[a] = c;
+            prev[c] = a;
+            clipped[cur] = 1;
+            --remaining;
+            for (std::uint32_t x : {a, c})
+                if (reflex[x] && convex(x)) reflex[x] = 0;
+            cur = a;  // the corner before may have become an ear
+            sinceClip = 0;
+        }
+    }
+    for (std::uint32_t k = 0, x = next[cur]; k + 2 < remaining; ++k, x = next[x])
+        triangles.push_back({cur, x, next[x]});
+    return triangles;
+}
+
 Mesh loadObj(const fs::path& file, const std::string& name) {
     checkObjLines(file, name);
     tinyobj::ObjReaderConfig config;
-    config.triangulate = true;
+    // Debian's tinyobjloader (2.0.0rc10, built without mapbox earcut) splits a quad along
+    // its shorter diagonal, outside the quad for some concave ones, and its own ear
+    // clipping decides convexity from the first edge alone: faces are read whole and
+    // triangulated by triangulatePolygon instead.
+    config.triangulate = false;
     config.vertex_color = false;
     config.mtl_search_path = file.parent_path().string();
     tinyobj::ObjReader reader;
@@ -91,16 +181,17 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
     // OBJ indexes positions, normals and UVs separately: each distinct triple becomes one
     // vertex, numbered in order of first use (deterministic).
     std::map<std::array<int, 3>, std::uint32_t> vertexOf;
+    std::vector<std::uint32_t> polygon;
+    std::vector<glm::dvec3> corners;
     for (const tinyobj::shape_t& shape : reader.GetShapes()) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
-            const std::size_t corners = shape.mesh.num_face_vertices[f];
-            if (corners != 3)  // points or lines after triangulation; not part of a surface
-            {
-                offset += corners;
-                continue;
-            }
-            for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t count = shape.mesh.num_face_vertices[f];
+            if (offset + count > shape.mesh.indices.size())
+                throw InputError(format("{}: face {} of '{}' runs past the file's indices", name, f + 1, shape.name));
+            polygon.clear();
+            corners.clear();
+            for (std::size_t c = 0; c < count; ++c) {
                 const tinyobj::index_t& idx = shape.mesh.indices[offset + c];
                 if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= positionCount)
                     throw InputError(format("{}: face {} of '{}' uses vertex {} but the file has {} vertices",
@@ -131,9 +222,12 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
                     }
                     mesh.uv0.push_back(uv);
                 }
-                mesh.indices.push_back(it->second);
+                polygon.push_back(it->second);
+                corners.emplace_back(mesh.positions[it->second]);
             }
-            offset += corners;
+            for (const auto& t : triangulatePolygon(corners))
+                mesh.indices.insert(mesh.indices.end(), {polygon[t[0]], polygon[t[1]], polygon[t[2]]});
+            offset += count;
         }
     }
     if (!anyNormal) mesh.normals.clear();
@@ -186,7 +280,15 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index, const 
     constexpr std::size_t kMaxElements = std::size_t(1) << 28;  // no real mesh comes near this
     if (a.count > kMaxElements)
         throw InputError(format("{}: accessor {} ({}) claims {} elements", source, index, what, a.count));
-    if (a.bufferView < 0) return std::vector<double>(a.count * std::size_t(components), 0.0);  // zeros, per the spec
+    if (a.bufferView < 0) {  // zeros, per the spec
+        // A usable one matches a POSITION accessor stored in the buffers, so it has no more
+        // elements than they have bytes; a bigger count would only take memory.
+        std::size_t bufferBytes = 0;
+        for (const tinygltf::Buffer& b : model.buffers) bufferBytes += b.data.size();
+        if (a.count > bufferBytes)
+            throw InputError(format("{}: accessor {} ({}) has no data but claims {} elements", source, index, what, a.count));
+        return std::vector<double>(a.count * std::size_t(components), 0.0);
+    }
     if (std::size_t(a.bufferView) >= model.bufferViews.size())
         throw InputError(format("{}: accessor {} refers to a missing bufferView", source, index));
     const tinygltf::BufferView& view = model.bufferViews[std::size_t(a.bufferView)];
@@ -268,18 +370,22 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
     if (auto v = vecAttribute("COLOR_0", 0); !v.empty()) {
         // Material IDs are read from COLOR_0 only when it is binary (every channel 0 or 1).
         const std::size_t c = v.size() / n;
+        if (c != 3 && c != 4) throw InputError(format("{}: COLOR_0 must have three or four components", source));
         if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; }))
             for (std::size_t i = 0; i < n; ++i)
                 mesh.materialIds.push_back(colorToMaterialId(
                     glm::vec4(float(v[c * i]), float(v[c * i + 1]), float(v[c * i + 2]), c == 4 ? float(v[c * i + 3]) : 0.0f)));
     }
     if (auto v = vecAttribute("_PIECE_ID", 1); !v.empty())
-        for (double x : v) mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
+        for (double x : v) {
+            if (std::isnan(x)) throw InputError(format("{}: a _PIECE_ID is not a number", source));
+            mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
+        }
 
     std::vector<std::uint32_t> order;
     if (prim.indices >= 0) {
         for (double x : readAccessor(model, prim.indices, source, "indices")) {
-            if (x >= double(n))
+            if (!(x >= 0.0 && x < double(n)))  // also NaN and negative (float or signed accessors)
                 throw InputError(format("{}: an index ({}) is out of range for {} vertices", source, x, n));
             order.push_back(static_cast<std::uint32_t>(x));
         }
@@ -340,7 +446,79 @@ void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, s
     for (int child : node.children) addNode(model, child, world, out, visited, source);
 }
 
+// The JSON of a .gltf file, or of a GLB's first chunk (read alone: a GLB may be a
+// gigabyte); empty if there is none to read (tinygltf then says what is wrong). A GLB of
+// version 1 is KHR_binary_glTF, glTF 1.0.
+std::string gltfJson(const fs::path& file, const std::string& name) {
+    std::ifstream in(file, std::ios::binary);
+    std::array<std::uint32_t, 5> header{};  // magic, version, length, chunk length, chunk type
+    in.read(reinterpret_cast<char*>(header.data()), sizeof header);
+    const auto got = static_cast<std::size_t>(in.gcount());
+    if (got < 4 || std::memcmp(header.data(), "glTF", 4) != 0) {
+        in.clear();
+        in.seekg(0);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
+    if (got >= 8 && header[1] == 1)
+        throw InputError(format("{}: glTF 1.0 is not supported (re-export as glTF 2.0)", name));
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (got < sizeof header || header[4] != 0x4E4F534Au || ec || header[3] > size - sizeof header) return {};
+    std::string json(header[3], '\0');
+    in.read(json.data(), std::streamsize(json.size()));
+    return in ? json : std::string();
+}
+
+// Refuses by name what tinygltf would misread: glTF 1.0 (objects keyed by ID where 2.0
+// has arrays) and Draco-compressed primitives, whose accessors have no data of their own.
+// A file that only uses Draco, with an uncompressed fallback in every accessor, is read.
+void checkGltfFlavour(const fs::path& file, const std::string& name) {
+    const nlohmann::json doc = nlohmann::json::parse(gltfJson(file, name), nullptr, false);
+    if (!doc.is_object()) return;
+    bool version1 = false;
+    if (const auto asset = doc.find("asset"); asset != doc.end() && asset->is_object()) {
+        if (const auto v = asset->find("version"); v != asset->end()) {
+            if (v->is_string()) version1 = v->get<std::string>().starts_with("1");
+            else if (v->is_number()) version1 = v->get<double>() >= 1.0 && v->get<double>() < 2.0;
+        }
+    }
+    for (const char* key : {"meshes", "accessors", "nodes"})
+        if (const auto it = doc.find(key); it != doc.end() && it->is_object()) version1 = true;
+    if (version1) throw InputError(format("{}: glTF 1.0 is not supported (re-export as glTF 2.0)", name));
+
+    constexpr const char* kDraco = "KHR_draco_mesh_compression";
+    auto lists = [&](const char* key) {
+        const auto it = doc.find(key);
+        return it != doc.end() && it->is_array() && std::find(it->begin(), it->end(), kDraco) != it->end();
+    };
+    const std::string refusal =
+        format("{}: Draco-compressed meshes are not supported (export without Draco compression)", name);
+    if (lists("extensionsRequired")) throw InputError(refusal);
+    if (!lists("extensionsUsed")) return;
+    const auto accessors = doc.find("accessors");
+    auto hasData = [&](const nlohmann::json& index) {
+        if (!index.is_number_unsigned() || accessors == doc.end() || !accessors->is_array()) return false;
+        const std::size_t i = index.get<std::size_t>();
+        return i < accessors->size() && (*accessors)[i].is_object() && (*accessors)[i].contains("bufferView");
+    };
+    const auto meshes = doc.find("meshes");
+    if (meshes == doc.end() || !meshes->is_array()) return;
+    for (const nlohmann::json& mesh : *meshes) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (const nlohmann::json& prim : mesh["primitives"]) {
+            if (!prim.is_object() || !prim.contains("extensions") || !prim["extensions"].is_object() ||
+                !prim["extensions"].contains(kDraco))
+                continue;
+            if (prim.contains("indices") && !hasData(prim["indices"])) throw InputError(refusal);
+            if (prim.contains("attributes") && prim["attributes"].is_object())
+                for (const nlohmann::json& attribute : prim["attributes"])
+                    if (!hasData(attribute)) throw InputError(refusal);
+        }
+    }
+}
+
 std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& name) {
+    checkGltfFlavour(file, name);
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
     tinygltf::Model model;
@@ -385,6 +563,15 @@ void checkReadable(const fs::path& file, const std::string& name) {
     if (!std::ifstream(file)) throw InputError(format("{}: cannot be read", name));
 }
 
+// The nodes of any format but OBJ: glTF through tinygltf, the rest through Assimp.
+std::vector<MeshNode> loadNodes(const fs::path& file, const std::string& name, const std::string& ext) {
+    if (ext == ".gltf" || ext == ".glb") return loadGltfNodes(file, name);
+    if (detail::assimpReadsExtension(ext)) return detail::loadAssimpNodes(file, name);
+    throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf, .glb, .fbx, .dae, .stl, .ply, .off, "
+                            ".3ds or another format Assimp reads)",
+                            name, ext));
+}
+
 }  // namespace
 
 Mesh loadMesh(const fs::path& file) {
@@ -394,11 +581,9 @@ Mesh loadMesh(const fs::path& file) {
     Mesh mesh;
     if (ext == ".obj") {
         mesh = loadObj(file, name);
-    } else if (ext == ".gltf" || ext == ".glb") {
-        mesh.name = file.stem().string();
-        for (const MeshNode& node : loadGltfNodes(file, name)) appendMesh(mesh, node.mesh, node.world);
     } else {
-        throw InputError(format("{}: unknown mesh format '{}' (expected .obj, .gltf or .glb)", name, ext));
+        mesh.name = file.stem().string();
+        for (const MeshNode& node : loadNodes(file, name, ext)) appendMesh(mesh, node.mesh, node.world);
     }
     validateMeshData(mesh, name);
     return mesh;
@@ -408,9 +593,15 @@ std::vector<MeshNode> loadMeshNodes(const fs::path& file) {
     const std::string name = file.string();
     checkReadable(file, name);
     const std::string ext = lowerExtension(file);
-    if (ext != ".gltf" && ext != ".glb")
-        throw InputError(format("{}: expected a glTF file (.gltf or .glb), not '{}'", name, ext));
-    std::vector<MeshNode> nodes = loadGltfNodes(file, name);
+    std::vector<MeshNode> nodes;
+    if (ext == ".obj") {
+        MeshNode whole;
+        whole.name = file.stem().string();
+        whole.mesh = loadObj(file, name);
+        nodes.push_back(std::move(whole));
+    } else {
+        nodes = loadNodes(file, name, ext);
+    }
     for (const MeshNode& node : nodes) validateMeshData(node.mesh, format("{} (node '{}')", name, node.name));
     return nodes;
 }

@@ -10,8 +10,9 @@
 // in metres and the interior material; cut planes give the bond graph.
 //
 // This is the only translation unit of sim that includes CGAL.
+#include "piece_surface.hpp"
+#include "pieces.hpp"
 #include "rough.hpp"
-#include "tetrahedralize.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -156,22 +157,22 @@ CGAL::Bbox_3 expanded(const CGAL::Bbox_3& b, double m) {
 // The input surface of one fracture call: welded positions and the triangles' attributes.
 struct Input {
     const Mesh* mesh;
-    const std::vector<std::int64_t>* triangleKeys;  // per input triangle: neighbour cell of a cut face, or -1
+    const std::vector<detail::PlaneKey>* planes;  // per input triangle: the cut plane it lies on, or none
     SM sm;
     CGAL::Bbox_3 bbox;
 };
 
-Input makeInput(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys) {
-    Input in{&mesh, triangleKeys, {}, {}};
-    const std::vector<std::uint32_t> canonical = weldByPosition(mesh.positions);
+// `exact`: the vertices' positions in double (a re-fractured piece's grid points), or empty
+// for the mesh's own float positions.
+Input makeInput(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::span<const glm::dvec3> exact) {
+    Input in{&mesh, planes, {}, {}};
+    std::map<std::array<double, 3>, Vertex> welded;
     std::vector<Vertex> vertexOf(mesh.positions.size());
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        if (canonical[i] == i) {
-            const glm::vec3& p = mesh.positions[i];
-            vertexOf[i] = in.sm.add_vertex(Point(p.x, p.y, p.z));
-        } else {
-            vertexOf[i] = vertexOf[canonical[i]];
-        }
+        const glm::dvec3 p = exact.empty() ? glm::dvec3(mesh.positions[i]) : exact[i];
+        const auto [it, inserted] = welded.try_emplace({p.x, p.y, p.z}, Vertex());
+        if (inserted) it->second = in.sm.add_vertex(toPoint(p));
+        vertexOf[i] = it->second;
     }
     auto o = origins(in.sm);
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -188,67 +189,102 @@ Input makeInput(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys)
 
 // ---------------------------------------------------------------- seeds
 
-glm::dvec3 samplePointInTetrahedron(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                                    const glm::dvec3& d, Rng& rng) {
-    // Rocchini & Cignoni, "Generating random points in a tetrahedron" (folding the cube).
-    double s = rng.uniform(), t = rng.uniform(), u = rng.uniform();
-    if (s + t > 1.0) {
-        s = 1.0 - s;
-        t = 1.0 - t;
+// Where seeds may fall: a grid over the bounding box whose cells are known to lie inside the
+// volume, or to meet the surface (conservatively: a cell overlapping a triangle's bounding
+// box). Cells neither inside nor meeting the surface lie outside and are never sampled, so
+// thin and sparse shapes cost no more tests than solid ones.
+struct SeedGrid {
+    glm::dvec3 lo{0.0}, cell{0.0};
+    glm::ivec3 n{1};
+    std::vector<std::uint32_t> candidates;  // cell indices, inside or boundary
+    std::vector<char> boundary;             // per cell
+
+    std::size_t index(glm::ivec3 c) const { return (std::size_t(c.z) * std::size_t(n.y) + std::size_t(c.y)) * std::size_t(n.x) + std::size_t(c.x); }
+    glm::ivec3 coords(std::size_t i) const {
+        return {int(i % std::size_t(n.x)), int(i / std::size_t(n.x) % std::size_t(n.y)), int(i / (std::size_t(n.x) * std::size_t(n.y)))};
     }
-    if (t + u > 1.0) {
-        const double tmp = u;
-        u = 1.0 - s - t;
-        t = 1.0 - tmp;
-    } else if (s + t + u > 1.0) {
-        const double tmp = u;
-        u = s + t + u - 1.0;
-        s = 1.0 - t - tmp;
+    glm::ivec3 cellOf(const glm::dvec3& p) const {
+        return glm::clamp(glm::ivec3(glm::floor((p - lo) / cell)), glm::ivec3(0), n - 1);
     }
-    return a + s * (b - a) + t * (c - a) + u * (d - a);
+};
+
+// Marks every cell overlapping a triangle's bounding box as boundary.
+void markSurfaceCells(const Input& in, SeedGrid& g) {
+    for (Face f : in.sm.faces()) {
+        const CGAL::Bbox_3 b = PMP::face_bbox(f, in.sm);
+        const glm::ivec3 a = g.cellOf({b.xmin(), b.ymin(), b.zmin()}), c = g.cellOf({b.xmax(), b.ymax(), b.zmax()});
+        for (int z = a.z; z <= c.z; ++z)
+            for (int y = a.y; y <= c.y; ++y)
+                for (int x = a.x; x <= c.x; ++x) g.boundary[g.index({x, y, z})] = 1;
+    }
 }
 
+// Sorts the cells that meet no triangle into regions (6-connected); each region is wholly
+// inside or wholly outside, so one exact test of its first cell's centre decides it.
+void addInsideRegions(SeedGrid& g, const CGAL::Side_of_triangle_mesh<SM, K>& inside) {
+    std::vector<char> seen(g.boundary.begin(), g.boundary.end());
+    std::vector<std::uint32_t> region, stack;
+    for (std::size_t start = 0; start < seen.size(); ++start) {
+        if (seen[start]) continue;
+        region.clear();
+        stack.assign(1, std::uint32_t(start));
+        seen[start] = 1;
+        while (!stack.empty()) {
+            const std::uint32_t i = stack.back();
+            stack.pop_back();
+            region.push_back(i);
+            const glm::ivec3 c = g.coords(i);
+            for (int axis = 0; axis < 3; ++axis)
+                for (int step : {-1, 1}) {
+                    glm::ivec3 d = c;
+                    d[axis] += step;
+                    if (d[axis] < 0 || d[axis] >= g.n[axis] || seen[g.index(d)]) continue;
+                    seen[g.index(d)] = 1;
+                    stack.push_back(std::uint32_t(g.index(d)));
+                }
+        }
+        const glm::dvec3 centre = g.lo + (glm::dvec3(g.coords(region.front())) + 0.5) * g.cell;
+        if (inside(toPoint(centre)) == CGAL::ON_BOUNDED_SIDE) g.candidates.insert(g.candidates.end(), region.begin(), region.end());
+    }
+    for (std::size_t i = 0; i < g.boundary.size(); ++i)
+        if (g.boundary[i]) g.candidates.push_back(std::uint32_t(i));
+    std::sort(g.candidates.begin(), g.candidates.end());
+}
+
+SeedGrid seedGrid(const Input& in, const CGAL::Side_of_triangle_mesh<SM, K>& inside) {
+    SeedGrid g;
+    const glm::dvec3 lo(in.bbox.xmin(), in.bbox.ymin(), in.bbox.zmin()), hi(in.bbox.xmax(), in.bbox.ymax(), in.bbox.zmax());
+    const glm::dvec3 extent = glm::max(hi - lo, glm::dvec3(1e-12));
+    constexpr double kCellsAlongLongest = 32.0;
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    g.n = glm::max(glm::ivec3(glm::ceil(extent / longest * kCellsAlongLongest)), glm::ivec3(1));
+    g.lo = lo;
+    g.cell = extent / glm::dvec3(g.n);
+    g.boundary.assign(std::size_t(g.n.x) * std::size_t(g.n.y) * std::size_t(g.n.z), 0);
+    markSurfaceCells(in, g);
+    addInsideRegions(g, inside);
+    return g;
+}
+
+// Seeds uniform in the volume (denser near the impact when given): points drawn uniformly in
+// the candidate cells, kept when the exact inside test says so (always, in a cell that meets
+// no triangle). Rejection keeps exactly the points of the volume, so the density is uniform.
 std::vector<glm::dvec3> sampleSeeds(const Input& in, int count, std::uint64_t seed,
                                     const std::optional<glm::dvec3>& impact, double radius, double boost) {
-    std::vector<glm::dvec3> points;
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    for (Vertex v : in.sm.vertices()) points.push_back(toGlm(in.sm.point(v)));
-    for (Face f : in.sm.faces()) {
-        std::array<std::uint32_t, 3> t{};
-        int k = 0;
-        for (Vertex v : CGAL::vertices_around_face(in.sm.halfedge(f), in.sm)) t[std::size_t(k++)] = std::uint32_t(v);
-        triangles.push_back(t);
-    }
-    const detail::Tetrahedra tets = detail::tetrahedralize(points, triangles);
-
-    // TetGen also fills closed cavities: keep the tetrahedra whose centroid is inside.
-    CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
-    std::vector<double> cumulative;
-    std::vector<std::size_t> kept;
-    double total = 0.0;
-    for (std::size_t t = 0; t < tets.tets.size(); ++t) {
-        const auto& q = tets.tets[t];
-        const glm::dvec3 &a = tets.points[q[0]], &b = tets.points[q[1]], &c = tets.points[q[2]], &d = tets.points[q[3]];
-        const double volume = std::abs(glm::dot(b - a, glm::cross(c - a, d - a))) / 6.0;
-        if (volume <= 0.0 || inside(toPoint(0.25 * (a + b + c + d))) != CGAL::ON_BOUNDED_SIDE) continue;
-        total += volume;
-        cumulative.push_back(total);
-        kept.push_back(t);
-    }
-    if (kept.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
-
+    const CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
+    const SeedGrid grid = seedGrid(in, inside);
+    if (grid.candidates.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
     Rng rng(deriveSeed(seed, "fracture-seeds"));
     std::vector<glm::dvec3> seeds;
     seeds.reserve(std::size_t(count));
     const double maxWeight = 1.0 + (impact ? boost : 0.0);
     for (std::size_t attempt = 0; int(seeds.size()) < count; ++attempt) {
         if (attempt > 1000u * std::size_t(count) + 100000u)
-            throw InputError("fracture: could not place the seeds (is the impact far outside the mesh?)");
-        const double pick = rng.uniform(0.0, total);
-        const std::size_t i = std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), pick) - cumulative.begin());
-        const auto& q = tets.tets[kept[std::min(i, kept.size() - 1)]];
-        const glm::dvec3 p =
-            samplePointInTetrahedron(tets.points[q[0]], tets.points[q[1]], tets.points[q[2]], tets.points[q[3]], rng);
+            throw InputError("fracture: could not place the seeds (is the impact far outside the mesh, or the mesh flat?)");
+        const std::uint32_t cell = grid.candidates[rng.below(grid.candidates.size())];
+        const glm::dvec3 u(rng.uniform(), rng.uniform(), rng.uniform());
+        const glm::dvec3 p = grid.lo + (glm::dvec3(grid.coords(cell)) + u) * grid.cell;
+        if (grid.boundary[cell] && inside(toPoint(p)) != CGAL::ON_BOUNDED_SIDE) continue;
         if (impact) {  // rejection: density 1 + boost·exp(-(d/r)^2)
             const double d = glm::length(p - *impact) / std::max(radius, 1e-9);
             if (rng.uniform() * maxWeight > 1.0 + boost * std::exp(-d * d)) continue;
@@ -413,33 +449,6 @@ struct Hierarchy {
 
 // ---------------------------------------------------------------- pieces
 
-struct CutGroup {
-    double area = 0.0;
-    glm::dvec3 weightedCentroid{0.0};
-    glm::dvec3 normal{0.0};
-    CGAL::Bbox_3 box;
-
-    // Adds triangle (a, b, c) of the given area (the caller has it already); not the normal.
-    void add(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double triangleArea) {
-        area += triangleArea;
-        weightedCentroid += triangleArea * (a + b + c) / 3.0;
-        for (const glm::dvec3& q : {a, b, c}) box += CGAL::Bbox_3(q.x, q.y, q.z, q.x, q.y, q.z);
-    }
-};
-
-// A piece as one fracture call makes it: world-space mesh and its cut faces by neighbour.
-struct RawPiece {
-    Mesh mesh;                                   // world space
-    std::vector<glm::dvec3> worldPositions;      // per mesh vertex, unrounded
-    std::vector<std::int64_t> triangleKeys;      // per triangle: neighbour cell across a cut face, or -1
-    std::vector<glm::dvec3> points;              // double-precision corners for mass properties
-    std::vector<std::uint32_t> pointIndices;
-    std::set<std::int64_t> cells;                // global cells it occupies
-    std::map<std::int64_t, CutGroup> cuts;       // by neighbour cell
-    std::uint32_t level = 0;
-    MassProperties mass;
-};
-
 glm::dvec3 barycentric(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const glm::dvec3 v0 = b - a, v1 = c - a, v2 = p - a;
     const double d00 = glm::dot(v0, v0), d01 = glm::dot(v0, v1), d11 = glm::dot(v1, v1);
@@ -463,15 +472,39 @@ struct Triangle {
     Origin origin;
 };
 
-// A piece's corners rounded to float, the precision of the files. CGAL may compute an
-// intersection point along another path in another run and land one ulp of a double
-// away; everything downstream (order, flips, mass properties) reads the rounded points.
+// The grid the cutting rounds every corner to, per axis the power of two 2^-29 of the input's
+// reach. Integer coordinates on it stay below 2^29, so cross and dot products of their
+// differences are exact in 64-bit integers: the mending of each piece (detail::cleanSurface)
+// decides collapses, flat triangles and contacts exactly, and shared faces of neighbouring
+// pieces coincide corner for corner. The rounding also absorbs CGAL's run-to-run differences
+// in the last bits of intersection points. It moves the input by about 1e-9 of its size; the
+// files' float precision is applied afterwards, per piece (detail::roundForFiles).
+struct Grid {
+    glm::dvec3 h{1.0};
+    glm::i64vec3 key(const glm::dvec3& p) const {
+        return {std::llround(p.x / h.x), std::llround(p.y / h.y), std::llround(p.z / h.z)};
+    }
+    glm::dvec3 at(const glm::i64vec3& k) const { return glm::dvec3(k) * h; }
+    glm::dvec3 snap(const glm::dvec3& p) const { return at(key(p)); }
+};
+
+Grid gridFor(const Mesh& mesh) {
+    const Bounds b = computeBounds(mesh.positions);
+    Grid g;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double reach = std::max({std::abs(double(b.min[axis])), std::abs(double(b.max[axis])),
+                                       double(b.max[axis]) - double(b.min[axis]), 1e-30});
+        g.h[axis] = std::ldexp(1.0, std::ilogb(reach) + 1 - 29);
+    }
+    return g;
+}
+
+// A piece's corners rounded to the grid; everything downstream (order, flips, mass
+// properties, the file) reads the rounded points.
 struct Snapped {
     const SM& sm;
-    Point operator()(Vertex v) const {
-        const Point& p = sm.point(v);
-        return {double(float(p.x())), double(float(p.y())), double(float(p.z()))};
-    }
+    const Grid& grid;
+    Point operator()(Vertex v) const { return toPoint(grid.snap(toGlm(sm.point(v)))); }
 };
 
 // A triangle's corners, rotated so that the lexicographically smallest comes first
@@ -570,93 +603,89 @@ void canonicalTriangulation(const Snapped& point, std::vector<Triangle>& tris) {
     for (std::size_t i = 0; i < tris.size(); ++i) tris[i] = keyed[i].second;
 }
 
-RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input& in,
-                      const std::vector<CutPlane>& planes, std::int64_t ownCell, const FractureSettings& settings) {
-    RawPiece piece;
-    piece.cells.insert(ownCell);
-    const Mesh& src = *in.mesh;
-    const auto o = origins(sm);
+// The attributes of one corner of a piece's triangle: an input triangle's normal, UV and
+// material interpolated at the corner; a cut face's plane normal, planar UVs in metres and
+// the interior material.
+struct Corner {
+    glm::vec3 normal{0.0f};
+    glm::vec2 uv{0.0f};
+    std::uint8_t material = 0;
+};
+
+std::array<Corner, 3> cornerAttributes(const std::array<glm::dvec3, 3>& p, Origin origin, const Input& in,
+                                       const std::vector<CutPlane>& planes, const FractureSettings& settings) {
+    std::array<Corner, 3> out{};
+    if (origin >= 0) {
+        const Mesh& src = *in.mesh;
+        const std::size_t t = std::size_t(origin);
+        const std::uint32_t i0 = src.indices[3 * t], i1 = src.indices[3 * t + 1], i2 = src.indices[3 * t + 2];
+        const glm::dvec3 a(src.positions[i0]), b(src.positions[i1]), c(src.positions[i2]);
+        const glm::dvec3 flat = glm::normalize(glm::cross(b - a, c - a));
+        for (std::size_t corner = 0; corner < 3; ++corner) {
+            const glm::dvec3 w = barycentric(p[corner], a, b, c);
+            out[corner].material = src.materialIds.empty() ? 0 : src.materialIds[i0];
+            out[corner].normal = src.normals.empty() ? glm::vec3(flat)
+                                                     : glm::vec3(glm::normalize(w.x * glm::dvec3(src.normals[i0]) +
+                                                                                w.y * glm::dvec3(src.normals[i1]) +
+                                                                                w.z * glm::dvec3(src.normals[i2])));
+            if (!src.uv0.empty())
+                out[corner].uv = glm::vec2(w.x * glm::dvec2(src.uv0[i0]) + w.y * glm::dvec2(src.uv0[i1]) +
+                                           w.z * glm::dvec2(src.uv0[i2]));
+        }
+    } else {
+        const CutPlane& plane = planes[std::size_t(-1 - origin)];
+        glm::dvec3 u, v;
+        planeBasis(plane.normal, u, v);
+        for (std::size_t corner = 0; corner < 3; ++corner)
+            out[corner] = {glm::vec3(plane.normal),
+                           glm::vec2(glm::dot(p[corner], u), glm::dot(p[corner], v)) / float(settings.interiorUvScale),
+                           settings.interiorMaterial};
+    }
+    return out;
+}
+
+// One piece from one part of a cell's surface, its corners on the grid.
+detail::RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::span<const glm::i64vec3> points,
+                    const Grid& grid, const Input& in, const std::vector<CutPlane>& planes, std::int64_t ownCell,
+                    const FractureSettings& settings) {
+    detail::RawPiece piece;
+    piece.cell = ownCell;
+    piece.mesh.name = "piece";
     struct Key {
-        std::uint32_t vertex;
+        std::uint32_t point;
         std::array<float, 5> attributes;  // normal, uv
         std::uint8_t material;
         bool operator<(const Key& k) const {
-            return std::tie(vertex, attributes, material) < std::tie(k.vertex, k.attributes, k.material);
+            return std::tie(point, attributes, material) < std::tie(k.point, k.attributes, k.material);
         }
     };
     std::map<Key, std::uint32_t> vertexOf;
-    std::map<Vertex, std::uint32_t> pointOf;
-    piece.mesh.name = "piece";
-    std::vector<Triangle> tris;
-    tris.reserve(faces.size());
-    for (Face f : faces) {
-        Triangle t{{}, o[f]};
-        int k = 0;
-        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
-        tris.push_back(t);
-    }
-    const Snapped point{sm};
-    canonicalTriangulation(point, tris);
-    for (const Triangle& tri : tris) {
-        const Origin origin = tri.origin;
-        const std::array<Vertex, 3>& vs = tri.v;
-        std::array<glm::dvec3, 3> p{toGlm(point(vs[0])), toGlm(point(vs[1])), toGlm(point(vs[2]))};
-        for (const Vertex v : vs) {
+    std::map<std::uint32_t, std::uint32_t> pointOf;
+    for (const detail::GridTriangle& tri : part) {
+        const std::array<glm::dvec3, 3> p{grid.at(points[tri.v[0]]), grid.at(points[tri.v[1]]), grid.at(points[tri.v[2]])};
+        for (std::uint32_t v : tri.v) {
             auto [it, inserted] = pointOf.try_emplace(v, std::uint32_t(piece.points.size()));
-            if (inserted) piece.points.push_back(toGlm(point(v)));
+            if (inserted) piece.points.push_back(grid.at(points[v]));
             piece.pointIndices.push_back(it->second);
         }
-
-        std::array<glm::vec3, 3> normal{};
-        std::array<glm::vec2, 3> uv{};
-        std::uint8_t material = settings.interiorMaterial;
-        std::int64_t key = -1;
-        if (origin >= 0) {  // the input surface: interpolate the input triangle's attributes
-            const std::size_t t = std::size_t(origin);
-            const std::uint32_t i0 = src.indices[3 * t], i1 = src.indices[3 * t + 1], i2 = src.indices[3 * t + 2];
-            const glm::dvec3 a(src.positions[i0]), b(src.positions[i1]), c(src.positions[i2]);
-            const glm::dvec3 flat = glm::normalize(glm::cross(b - a, c - a));
-            material = src.materialIds.empty() ? 0 : src.materialIds[i0];
-            key = in.triangleKeys ? (*in.triangleKeys)[t] : -1;
-            for (std::size_t corner = 0; corner < 3; ++corner) {
-                const glm::dvec3 w = barycentric(p[corner], a, b, c);
-                normal[corner] = src.normals.empty()
-                                     ? glm::vec3(flat)
-                                     : glm::vec3(glm::normalize(w.x * glm::dvec3(src.normals[i0]) +
-                                                                w.y * glm::dvec3(src.normals[i1]) +
-                                                                w.z * glm::dvec3(src.normals[i2])));
-                if (!src.uv0.empty())
-                    uv[corner] = glm::vec2(w.x * glm::dvec2(src.uv0[i0]) + w.y * glm::dvec2(src.uv0[i1]) +
-                                           w.z * glm::dvec2(src.uv0[i2]));
-            }
-        } else if (origin != kBoxOrigin) {  // a cut face: flat, planar UVs in metres, interior material
-            const CutPlane& plane = planes[std::size_t(-1 - origin)];
-            glm::dvec3 u, v;
-            planeBasis(plane.normal, u, v);
-            for (std::size_t corner = 0; corner < 3; ++corner) {
-                normal[corner] = glm::vec3(plane.normal);
-                uv[corner] = glm::vec2(glm::dot(p[corner], u), glm::dot(p[corner], v)) / float(settings.interiorUvScale);
-            }
-            key = plane.neighbour;
+        const std::array<Corner, 3> corners = cornerAttributes(p, tri.origin, in, planes, settings);
+        detail::PlaneKey plane = detail::kSurface;
+        if (tri.origin >= 0) {
+            if (in.planes) plane = (*in.planes)[std::size_t(tri.origin)];
+        } else if (tri.origin != kBoxOrigin && planes[std::size_t(-1 - tri.origin)].neighbour >= 0) {
+            plane = detail::planeKey(ownCell, planes[std::size_t(-1 - tri.origin)].neighbour);
         }
-        if (key >= 0) {
-            CutGroup& g = piece.cuts[key];
-            g.add(p[0], p[1], p[2], 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
-            g.normal = origin < 0 ? planes[std::size_t(-1 - origin)].normal
-                                  : glm::dvec3(glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0])));
-        }
-        piece.triangleKeys.push_back(key);
+        piece.planes.push_back(plane);
         for (std::size_t corner = 0; corner < 3; ++corner) {
-            const Key vk{std::uint32_t(vs[corner]),
-                         {normal[corner].x, normal[corner].y, normal[corner].z, uv[corner].x, uv[corner].y},
-                         material};
+            const Corner& c = corners[corner];
+            const Key vk{tri.v[corner], {c.normal.x, c.normal.y, c.normal.z, c.uv.x, c.uv.y}, c.material};
             auto [it, inserted] = vertexOf.try_emplace(vk, std::uint32_t(piece.mesh.positions.size()));
             if (inserted) {
                 piece.mesh.positions.push_back(glm::vec3(p[corner]));
                 piece.worldPositions.push_back(p[corner]);
-                piece.mesh.normals.push_back(normal[corner]);
-                piece.mesh.uv0.push_back(uv[corner]);
-                piece.mesh.materialIds.push_back(material);
+                piece.mesh.normals.push_back(c.normal);
+                piece.mesh.uv0.push_back(c.uv);
+                piece.mesh.materialIds.push_back(c.material);
             }
             piece.mesh.indices.push_back(it->second);
         }
@@ -665,43 +694,53 @@ RawPiece extractPiece(const SM& sm, const std::vector<Face>& faces, const Input&
     return piece;
 }
 
-// Splits a cell's result into volumes (a cell can cut the mesh into several parts; a
-// part with a cavity is one volume with two shells).
-std::vector<std::vector<Face>> volumesOf(SM& sm) {
-    std::vector<std::vector<Face>> out;
-    if (sm.number_of_faces() == 0) return out;
-    auto component = sm.add_property_map<Face, std::size_t>("f:cc", 0).first;
-    const std::size_t shells = PMP::connected_components(sm, component);
-    if (shells > 1) {
-        auto volume = sm.add_property_map<Face, std::size_t>("f:volume", 0).first;
-        const std::size_t volumes = PMP::volume_connected_components(sm, volume);
-        out.resize(volumes);
-        for (Face f : sm.faces()) out[volume[f]].push_back(f);
-    } else {
-        out.emplace_back(sm.faces().begin(), sm.faces().end());
+// The pieces of one cell: its surface in canonical triangles with corners on the grid, welded
+// by grid point, mended (detail::cleanSurface) and split into closed parts: the volumes a
+// cell cuts out of a non-convex mesh, and the parts that rounding left touching.
+std::vector<detail::RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
+                                    std::int64_t ownCell, const FractureSettings& settings) {
+    const auto o = origins(sm);
+    std::vector<Triangle> tris;
+    tris.reserve(sm.number_of_faces());
+    for (Face f : sm.faces()) {
+        Triangle t{{}, o[f]};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
+        tris.push_back(t);
     }
-    // Volumes in the order of their smallest corner: independent of CGAL's face order.
-    const Snapped point{sm};
-    auto smallest = [&](const std::vector<Face>& faces) {
-        Point m = point(sm.target(sm.halfedge(faces.front())));
-        for (Face f : faces)
-            for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) m = std::min(m, point(v));
-        return m;
-    };
-    std::sort(out.begin(), out.end(), [&](const auto& a, const auto& b) { return smallest(a) < smallest(b); });
-    return out;
+    const Snapped point{sm, grid};
+    canonicalTriangulation(point, tris);
+    std::vector<glm::i64vec3> points;
+    std::map<std::array<std::int64_t, 3>, std::uint32_t> idOf;
+    std::vector<detail::GridTriangle> welded;
+    welded.reserve(tris.size());
+    for (const Triangle& t : tris) {
+        detail::GridTriangle g{{}, t.origin};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const glm::i64vec3 q = grid.key(toGlm(sm.point(t.v[k])));
+            const auto [it, inserted] = idOf.try_emplace({q.x, q.y, q.z}, std::uint32_t(points.size()));
+            if (inserted) points.push_back(q);
+            g.v[k] = it->second;
+        }
+        welded.push_back(g);
+    }
+    std::vector<detail::RawPiece> pieces;
+    for (const auto& part : detail::cleanSurface(points, std::move(welded)).parts)
+        pieces.push_back(buildPiece(part, points, grid, in, planes, ownCell, settings));
+    return pieces;
 }
 
 struct Call {
-    std::vector<RawPiece> pieces;
+    std::vector<detail::RawPiece> pieces;
     std::vector<glm::dvec3> seeds;
 };
 
 // The pieces of the rough path (rough.cpp), as raw pieces with cut groups for bonds.
 // Rough pieces re-mesh the whole surface, so their faces name only the cuts made here: a
 // piece re-fractured by `levels` keeps bonds among its own sub-pieces, not outward.
-std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
-                                    std::int64_t cellBase, double diagonal, const FractureSettings& settings) {
+std::vector<detail::RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const std::vector<glm::dvec3>& seeds,
+                                    std::int64_t cellBase, double diagonal, const Grid& grid,
+                                    const FractureSettings& settings) {
     std::vector<detail::RoughCell> rough(seeds.size());
     for (std::size_t i = 0; i < seeds.size(); ++i) {
         for (const CutPlane& c : cells.planes[i]) {
@@ -725,29 +764,21 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
     rs.uvScale = settings.interiorUvScale;
     std::vector<std::vector<detail::RoughPiece>> perCell = detail::roughPieces(mesh, rough, rs);
 
-    std::vector<RawPiece> pieces;
+    std::vector<detail::RawPiece> pieces;
     for (std::size_t i = 0; i < perCell.size(); ++i)
         for (detail::RoughPiece& rp : perCell[i]) {
-            RawPiece p;
-            p.cells.insert(cellBase + std::int64_t(i));
+            detail::RawPiece p;
+            p.cell = cellBase + std::int64_t(i);
             p.mesh = std::move(rp.mesh);
             p.mesh.name = "piece";
-            p.triangleKeys = std::move(rp.triangleKeys);
-            p.worldPositions.assign(p.mesh.positions.begin(), p.mesh.positions.end());
+            for (std::int64_t neighbour : rp.triangleKeys)
+                p.planes.push_back(neighbour < 0 ? detail::kSurface : detail::planeKey(p.cell, neighbour));
+            for (glm::vec3& q : p.mesh.positions) {
+                p.worldPositions.push_back(grid.snap(glm::dvec3(q)));
+                q = glm::vec3(p.worldPositions.back());
+            }
             p.points = p.worldPositions;
             p.pointIndices = p.mesh.indices;
-            for (std::size_t t = 0; t < p.triangleKeys.size(); ++t) {
-                if (p.triangleKeys[t] < 0) continue;
-                const glm::dvec3 a = p.points[p.pointIndices[3 * t]], b = p.points[p.pointIndices[3 * t + 1]],
-                                 c = p.points[p.pointIndices[3 * t + 2]];
-                const glm::dvec3 cross = glm::cross(b - a, c - a);
-                const double area = 0.5 * glm::length(cross);
-                if (area <= 0.0) continue;
-                CutGroup& g = p.cuts[p.triangleKeys[t]];
-                g.add(a, b, c, area);
-                g.normal += cross;
-            }
-            for (auto& [key, g] : p.cuts) g.normal = glm::normalize(g.normal);
             p.mass = computeMassProperties(p.points, p.pointIndices, settings.density);
             pieces.push_back(std::move(p));
         }
@@ -756,9 +787,9 @@ std::vector<RawPiece> roughFracture(const Mesh& mesh, const Cells& cells, const 
 
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 // Seeds are settings.points, or sampled from the surface this call builds anyway.
-Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKeys, std::int64_t cellBase,
-                  const FractureSettings& settings, const ProgressFn& progress) {
-    Input in = makeInput(mesh, triangleKeys);
+Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::span<const glm::dvec3> exact,
+                  std::int64_t cellBase, const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
+    Input in = makeInput(mesh, planes, exact);
     std::vector<glm::dvec3> seeds = !settings.points.empty()
                                         ? settings.points
                                         : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
@@ -770,7 +801,7 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
 
     if (settings.roughness > 0.0) {
         Call call;
-        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, settings);
+        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, grid, settings);
         call.seeds = std::move(seeds);
         return call;
     }
@@ -781,123 +812,17 @@ Call fractureOnce(const Mesh& mesh, const std::vector<std::int64_t>* triangleKey
     std::iota(all.begin(), all.end(), 0u);
     hierarchy.process(in.sm, std::move(all));
 
-    // Extract pieces in cell order, volumes within a cell in CGAL's (deterministic) order.
-    std::vector<std::vector<RawPiece>> perCell(seeds.size());
+    // Pieces in cell order, the parts of a cell in the order of their smallest corner.
+    std::vector<std::vector<detail::RawPiece>> perCell(seeds.size());
     tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
-        for (const std::vector<Face>& faces : volumesOf(results[i]))
-            perCell[i].push_back(extractPiece(results[i], faces, in, cells.planes[i], cellBase + std::int64_t(i), settings));
+        perCell[i] = extractPieces(results[i], in, grid, cells.planes[i], cellBase + std::int64_t(i), settings);
         results[i] = SM();
     });
     Call call;
     call.seeds = std::move(seeds);
     for (auto& list : perCell)
-        for (RawPiece& p : list) call.pieces.push_back(std::move(p));
+        for (detail::RawPiece& p : list) call.pieces.push_back(std::move(p));
     return call;
-}
-
-bool boxesTouch(const CGAL::Bbox_3& a, const CGAL::Bbox_3& b, double tolerance) {
-    return CGAL::do_overlap(expanded(a, tolerance), b);
-}
-
-// Bonds from cut faces: piece p occupies cell i and has cut faces towards cell j; q
-// occupies j and has cut faces towards one of p's cells, where the two sets of faces meet.
-std::vector<Bond> buildBonds(const std::vector<RawPiece>& pieces, double tolerance) {
-    std::multimap<std::int64_t, std::uint32_t> piecesInCell;
-    for (std::uint32_t i = 0; i < pieces.size(); ++i)
-        for (std::int64_t c : pieces[i].cells) piecesInCell.emplace(c, i);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, Bond> bonds;
-    for (std::uint32_t p = 0; p < pieces.size(); ++p) {
-        for (const auto& [neighbourCell, group] : pieces[p].cuts) {
-            const auto range = piecesInCell.equal_range(neighbourCell);
-            for (auto it = range.first; it != range.second; ++it) {
-                const std::uint32_t q = it->second;
-                if (q == p) continue;
-                bool facing = false;
-                for (std::int64_t c : pieces[p].cells) {
-                    const auto g = pieces[q].cuts.find(c);
-                    if (g != pieces[q].cuts.end() && boxesTouch(group.box, g->second.box, tolerance)) facing = true;
-                }
-                if (!facing) continue;
-                const auto key = std::minmax(p, q);
-                Bond& bond = bonds[{key.first, key.second}];
-                bond.a = key.first;
-                bond.b = key.second;
-                if (p == bond.a) {  // a's side of the shared faces defines the bond
-                    bond.area += group.area;
-                    bond.centroid = (bond.centroid * (bond.area - group.area) + group.weightedCentroid) / bond.area;
-                    bond.normal = group.normal;
-                }
-            }
-        }
-    }
-    std::vector<Bond> out;
-    for (auto& [key, bond] : bonds)
-        if (bond.area > 0.0) out.push_back(bond);
-    return out;
-}
-
-// Keeps only the triangles for which keep(t) holds, and the vertices they use.
-void filterTriangles(RawPiece& piece, const std::function<bool(std::size_t)>& keep) {
-    RawPiece out;
-    out.cells = std::move(piece.cells);
-    out.cuts = std::move(piece.cuts);
-    out.level = piece.level;
-    out.mass = piece.mass;
-    std::vector<std::uint32_t> vertexMap(piece.mesh.positions.size(), UINT32_MAX);
-    std::vector<std::uint32_t> pointMap(piece.points.size(), UINT32_MAX);
-    for (std::size_t t = 0; t < piece.triangleKeys.size(); ++t) {
-        if (!keep(t)) continue;
-        out.triangleKeys.push_back(piece.triangleKeys[t]);
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::uint32_t v = piece.mesh.indices[3 * t + k], q = piece.pointIndices[3 * t + k];
-            if (vertexMap[v] == UINT32_MAX) {
-                vertexMap[v] = std::uint32_t(out.mesh.positions.size());
-                out.mesh.positions.push_back(piece.mesh.positions[v]);
-                out.mesh.normals.push_back(piece.mesh.normals[v]);
-                out.mesh.uv0.push_back(piece.mesh.uv0[v]);
-                out.mesh.materialIds.push_back(piece.mesh.materialIds[v]);
-                out.worldPositions.push_back(piece.worldPositions[v]);
-            }
-            if (pointMap[q] == UINT32_MAX) {
-                pointMap[q] = std::uint32_t(out.points.size());
-                out.points.push_back(piece.points[q]);
-            }
-            out.mesh.indices.push_back(vertexMap[v]);
-            out.pointIndices.push_back(pointMap[q]);
-        }
-    }
-    out.mesh.name = piece.mesh.name;
-    piece = std::move(out);
-}
-
-// Merges `part` into `into`: the faces between them go (their boundary loops coincide
-// once rounded to float, so the welded result stays watertight), the rest is concatenated.
-void mergeInto(RawPiece& into, RawPiece&& part, double density) {
-    filterTriangles(into, [&](std::size_t t) { return !part.cells.count(into.triangleKeys[t]); });
-    filterTriangles(part, [&](std::size_t t) { return !into.cells.count(part.triangleKeys[t]); });
-    const auto base = std::uint32_t(into.mesh.positions.size());
-    const auto pointBase = std::uint32_t(into.points.size());
-    for (std::uint32_t i : part.mesh.indices) into.mesh.indices.push_back(base + i);
-    for (std::uint32_t i : part.pointIndices) into.pointIndices.push_back(pointBase + i);
-    auto concat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
-    concat(into.mesh.positions, part.mesh.positions);
-    concat(into.mesh.normals, part.mesh.normals);
-    concat(into.mesh.uv0, part.mesh.uv0);
-    concat(into.mesh.materialIds, part.mesh.materialIds);
-    concat(into.worldPositions, part.worldPositions);
-    concat(into.points, part.points);
-    concat(into.triangleKeys, part.triangleKeys);
-    into.cells.insert(part.cells.begin(), part.cells.end());
-    into.level = std::min(into.level, part.level);
-    for (auto& [cell, group] : part.cuts) {
-        CutGroup& g = into.cuts[cell];
-        g.area += group.area;
-        g.weightedCentroid += group.weightedCentroid;
-        g.normal = group.normal;
-        g.box += group.box;
-    }
-    for (std::int64_t cell : into.cells) into.cuts.erase(cell);  // no bond with itself
-    into.mass = computeMassProperties(into.points, into.pointIndices, density);
 }
 
 std::string pieceName(std::size_t i) {
@@ -933,7 +858,7 @@ void checkInput(const Mesh& mesh) {
 
 std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings) {
     if (settings.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", settings.pieces));
-    const Input in = makeInput(mesh, nullptr);
+    const Input in = makeInput(mesh, nullptr, {});
     return sampleSeeds(in, settings.pieces, settings.seed, settings.impact, settings.impactRadius,
                        settings.impactDensity);
 }
@@ -964,24 +889,15 @@ void checkSettings(const FractureSettings& s) {
         throw InputError("roughness, its scale and the voxel size must not be negative");
 }
 
-FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
-    checkSettings(settings);
-    checkInput(mesh);
-    FractureResult result;
-    result.inputTriangles = mesh.triangleCount();
-
-    // Re-fracture levels each take a share of the progress bar.
-    const double share = 1.0 / double(1 + settings.levels);
-    Call top = fractureOnce(mesh, nullptr, 0, settings,
-                            [&](double f) { return progress(f * share); });
-    result.seeds = top.seeds;
-    std::vector<RawPiece> pieces = std::move(top.pieces);
-
-    std::int64_t nextCell = std::int64_t(result.seeds.size());
+// Fractures again, `levels` times, the pieces whose centre lies within the impact radius.
+// A re-fractured piece's faces keep the cut plane they lay on, so its sub-pieces bond to
+// the neighbours it had.
+std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, std::int64_t nextCell, const Grid& grid,
+                                         const FractureSettings& settings, const ProgressFn& progress) {
     for (int level = 1; level <= settings.levels && settings.impact; ++level) {
-        std::vector<RawPiece> next;
+        std::vector<detail::RawPiece> next;
         for (std::size_t i = 0; i < pieces.size(); ++i) {
-            RawPiece& p = pieces[i];
+            detail::RawPiece& p = pieces[i];
             const bool near = glm::length(p.mass.centerOfMass - *settings.impact) <= settings.impactRadius;
             if (!near || p.level != std::uint32_t(level - 1)) {
                 next.push_back(std::move(p));
@@ -992,57 +908,65 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
             sub.impact.reset();
             sub.points.clear();
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
-            Call call = fractureOnce(p.mesh, &p.triangleKeys, nextCell, sub, noProgress);
+            Call call = fractureOnce(p.mesh, &p.planes, p.worldPositions, nextCell, grid, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
-            for (RawPiece& q : call.pieces) {
+            for (detail::RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
                 next.push_back(std::move(q));
             }
         }
         pieces = std::move(next);
-        if (!progress(share * (1 + level))) throw Cancelled();
+        if (!progress(double(level) / double(settings.levels))) throw Cancelled();
     }
+    return pieces;
+}
 
-    // Pieces below the minimum volume join the neighbour they share most area with.
-    if (settings.minVolume > 0.0) {
-        for (;;) {
-            std::size_t smallest = pieces.size();
-            for (std::size_t i = 0; i < pieces.size(); ++i)
-                if (pieces[i].mass.volume < settings.minVolume &&
-                    (smallest == pieces.size() || pieces[i].mass.volume < pieces[smallest].mass.volume))
-                    smallest = i;
-            if (smallest == pieces.size()) break;
-            const Bond* best = nullptr;
-            const std::vector<Bond> bonds = buildBonds(pieces, 1e-6);
-            for (const Bond& b : bonds)
-                if ((b.a == smallest || b.b == smallest) && (!best || b.area > best->area)) best = &b;
-            if (!best) break;  // an isolated sliver: nothing to merge with
-            const std::size_t into = best->a == smallest ? best->b : best->a;
-            mergeInto(pieces[into], std::move(pieces[smallest]), settings.density);
-            pieces.erase(pieces.begin() + std::ptrdiff_t(smallest));
-            ++result.merged;
-        }
-    }
-
-    const Bounds bounds = computeBounds(mesh.positions);
-    const double tolerance = 1e-6 * (1.0 + glm::length(bounds.max - bounds.min));
-    result.bonds = buildBonds(pieces, tolerance);
-    result.inputVolume = volumeOf(mesh);
-    result.pieces.resize(pieces.size());
+// The pieces as written: named in order, every vertex tagged with its piece; their meshes are
+// already relative to their pivots (detail::roundForFiles).
+std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces) {
+    std::vector<FracturePiece> out(pieces.size());
     tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
-        RawPiece& raw = pieces[i];
-        FracturePiece& piece = result.pieces[i];
+        detail::RawPiece& raw = pieces[i];
+        FracturePiece& piece = out[i];
         piece.name = pieceName(i);
         piece.mass = raw.mass;
-        piece.cell = std::uint32_t(*raw.cells.begin());
+        piece.cell = std::uint32_t(raw.cell);
         piece.level = raw.level;
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
-        for (std::size_t v = 0; v < piece.mesh.positions.size(); ++v)  // the pivot is the centre of mass
-            piece.mesh.positions[v] = glm::vec3(raw.worldPositions[v] - piece.mass.centerOfMass);
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
         piece.closed = inspectMesh(piece.mesh).closed;
     });
+    return out;
+}
+
+FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+    checkSettings(settings);
+    if (mesh.triangleCount() > kMaxFractureTriangles)
+        throw InputError(format("the mesh has {} triangles; fracture takes at most {} (about 5 KB of memory each): "
+                                "simplify it first",
+                                mesh.triangleCount(), kMaxFractureTriangles));
+    checkInput(mesh);
+    FractureResult result;
+    result.inputTriangles = mesh.triangleCount();
+    result.inputVolume = volumeOf(mesh);
+    const Grid grid = gridFor(mesh);
+    const Bounds bounds = computeBounds(mesh.positions);
+    const double diagonal = glm::length(bounds.max - bounds.min);
+    const double minArea = 1e-12 * diagonal * diagonal;  // contacts smaller than this are rounding
+
+    // The first fracture and each re-fracture level take a share of the progress bar.
+    const double share = 1.0 / double(1 + settings.levels);
+    Call top = fractureOnce(mesh, nullptr, {}, 0, grid, settings, [&](double f) { return progress(f * share); });
+    result.seeds = top.seeds;
+    std::vector<detail::RawPiece> pieces =
+        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings,
+                   [&](double f) { return progress(share + f * (1.0 - share)); });
+    if (settings.minVolume > 0.0)
+        result.merged = detail::mergeSmallPieces(pieces, settings.minVolume, settings.density, minArea);
+    pieces = detail::roundForFiles(std::move(pieces), settings.density);
+    result.bonds = detail::bondsBetween(pieces, minArea);
+    result.pieces = finalPieces(pieces);
     progress(1.0);
     return result;
 }

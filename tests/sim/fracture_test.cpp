@@ -241,6 +241,19 @@ TEST(Fracture, RefusesMeshesThatBoundNoVolume) {
     EXPECT_THROW(fractureMesh(inside, s), InputError);
 }
 
+TEST(Fracture, RefusesMoreTrianglesThanFitInMemoryBeforeAnyWork) {
+    Mesh huge = makeBox({0, 0, 0}, {1, 1, 1});
+    const std::vector<std::uint32_t> box = huge.indices;
+    while (huge.triangleCount() <= kMaxFractureTriangles) huge.indices.insert(huge.indices.end(), box.begin(), box.end());
+    try {
+        fractureMesh(huge, FractureSettings{});
+        ADD_FAILURE() << "a mesh above the limit was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("at most 2000000"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("simplify"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Fracture, RoughCutsAreClosedNoisyAndTouching) {
     const Mesh sphere = makeIcosphere(1.0f, 3);
     FractureSettings s;

@@ -1,5 +1,6 @@
 #pragma once
-// Mesh import: OBJ (tinyobjloader) and glTF/GLB (tinygltf) into one core Mesh.
+// Mesh import into core Meshes: OBJ (tinyobjloader), glTF 2.0 / GLB (tinygltf) and every
+// other format Assimp reads (FBX, Collada, STL, PLY, OFF, 3DS, ...), in metres, +Y up.
 #include <dawnforge/core/mesh.hpp>
 
 #include <glm/mat4x4.hpp>
@@ -10,22 +11,27 @@
 
 namespace dawnforge {
 
-// Reads a whole file as one mesh in world space (glTF node transforms applied,
-// OBJ groups merged, polygons triangulated). Chooses the reader by extension
-// (.obj, .gltf, .glb). Throws InputError naming the file if it is missing, empty,
-// unparsable, has no triangles, a non-finite coordinate or an index out of range.
+// Reads a whole file as one mesh in world space (node transforms applied, OBJ groups
+// merged, polygons triangulated, points and lines skipped). Chooses the reader by
+// extension: .obj, .gltf, .glb, or any extension Assimp knows. FBX and Collada units and up
+// axes are converted to metres and +Y up; STL, PLY, OFF and OBJ coordinates are taken as
+// metres as they are. Only glTF carries material IDs (COLOR_0); other formats leave
+// materialIds empty. Throws InputError naming the file if it is missing, empty,
+// unparsable, glTF 1.0 or Draco-compressed, has no triangles, a non-finite coordinate or
+// an index out of range.
 Mesh loadMesh(const std::filesystem::path& file);
 
-// A glTF node that shows a mesh: its name, its world transform and its mesh in the
-// node's own coordinates (all primitives merged).
+// A node that shows a mesh: its name, its world transform (with the file's unit and axis
+// conversion) and its mesh in the node's own coordinates (all primitives merged).
 struct MeshNode {
     std::string name;
     glm::mat4 world{1.0f};
     Mesh mesh;
 };
 
-// Every node of a glTF/GLB file that shows a mesh, in hierarchy order (depth first from
-// the default scene's roots). Each node's mesh gets the checks of loadMesh.
+// Every node of a file that shows a mesh, in hierarchy order (depth first from the
+// default scene's roots); an OBJ file is one node named after the file. Each node's mesh
+// gets the checks of loadMesh.
 std::vector<MeshNode> loadMeshNodes(const std::filesystem::path& file);
 
 }  // namespace dawnforge
