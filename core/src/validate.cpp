@@ -323,14 +323,15 @@ Shells findShells(SurfaceMesh& sm) {
     Shells s;
     auto shellOf = sm.add_property_map<Face, std::size_t>("f:dawnforge_shell", 0).first;
     std::vector<std::vector<std::size_t>> parents;
-    std::vector<bool> outward;
     CGAL::Constant_property_map<Face, std::size_t> unused(0);
+    // CGAL's own orientation test per shell asserts on a flat top (several highest
+    // vertices; CGAL 5.5 takes any of them as the extreme one): the sign of each shell's
+    // volume says the same for a shell that does not intersect itself.
     PMP::volume_connected_components(sm, unused,
                                      CGAL::parameters::face_connected_component_map(shellOf)
                                          .nesting_levels(std::ref(s.level))
                                          .volume_inclusions(std::ref(parents))
-                                         .is_cc_outward_oriented(std::ref(outward)));
-    s.outward = outward;
+                                         .do_orientation_tests(false));
     s.parent.assign(s.size(), kNone);
     for (std::size_t i = 0; i < s.size() && i < parents.size(); ++i)
         if (parents[i].size() == 1) s.parent[i] = parents[i][0];
@@ -353,6 +354,8 @@ Shells findShells(SurfaceMesh& sm) {
         s.volume[shell] += glm::dot(a, glm::cross(b, c)) / 6.0;
     }
     sm.remove_property_map(shellOf);
+    s.outward.resize(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) s.outward[i] = s.volume[i] > 0.0;
     return s;
 }
 
