@@ -55,7 +55,7 @@ Mesh loadInput(const FractureOptions& options) {
     Mesh mesh = loadMesh(options.file);
     if (!options.repair) return mesh;
     RepairReport report;
-    mesh = repairMesh(mesh, &report);
+    mesh = repairFile(mesh, options.file, &report);
     for (const std::string& action : report.actions)
         std::fprintf(stderr, "dawnforge fracture: repaired %s: %s\n", options.file.string().c_str(), action.c_str());
     return mesh;
