@@ -308,12 +308,18 @@ double checkBudget(const std::vector<ReceiverData>& data, std::size_t glbBytes, 
     const double lightmapMb = atlasTexels * kBytesPerAtlasTexel / 1048576.0;
     const double estimate = fixedMb + lightmapMb;
     if (estimate <= settings.memoryBudgetMb) return estimate;
+    // Lightmap memory goes with 1 / texel²: every texel size (outside, rooms, ground) times
+    // `scale` fits, with 5 % to spare; the meshes' share does not shrink.
     const double room = settings.memoryBudgetMb - fixedMb;
-    const double suggested = room > 0.0 ? std::ceil(settings.texel * std::sqrt(lightmapMb / room) * 1.05 * 100.0) / 100.0 : 0.0;
-    throw BakeBudgetError(format("a texel of {} m needs about {} MB to bake this city, more than the budget of {} MB{}",
-                                 settings.texel, std::lround(estimate), std::lround(settings.memoryBudgetMb),
-                                 suggested > 0.0 ? format("; a texel of {} m or larger fits", suggested) : std::string()),
-                          suggested);
+    const double scale = room > 0.0 ? std::sqrt(lightmapMb / room) * 1.05 : 0.0;
+    const auto up = [&](double texel) { return std::ceil(texel * scale * 100.0) / 100.0; };
+    const std::string fits =
+        scale > 0.0 ? format("; texels {} times as large fit ({} m outside, {} m in rooms, {} m on the ground)",
+                             std::ceil(scale * 100.0) / 100.0, up(settings.texel), up(settings.interiorTexel), up(settings.groundTexel))
+                    : format("; the meshes alone need about {} MB", std::lround(fixedMb));
+    throw BakeBudgetError(format("a texel of {} m ({} m in rooms) needs about {} MB to bake this city, more than the budget of {} MB{}",
+                                 settings.texel, settings.interiorTexel, std::lround(estimate), std::lround(settings.memoryBudgetMb), fits),
+                          scale > 0.0 ? up(settings.texel) : 0.0);
 }
 
 // Packs every receiver's atlas (with its room table); window glass points at its room's block.

@@ -26,8 +26,7 @@ void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettin
         StderrProgress progress = progressFor("bake", common);
         report = bake::bakeCity(cityDir, settings, progress.callback());
     } catch (const bake::BakeBudgetError& e) {
-        throw InputError(format("{} (raise --texel{}, or --memory-budget)", e.what(),
-                                e.suggestedTexel() > 0.0 ? format(" to {}", e.suggestedTexel()) : std::string()));
+        throw InputError(format("{} (raise --texel, --interior-texel and --ground-texel, or --memory-budget)", e.what()));
     }
     const double mrays = double(report.lighting.rays) / std::max(report.lighting.raySeconds, 1e-9) / 1e6;
     std::printf("baked %s: %zu buildings, %zu rooms, %zu lamps, %zu lightmaps with %zu texels, %zu proxies in %.1f s\n",

@@ -34,7 +34,8 @@ struct BakeSettings {
 };
 
 // A setting that would need more memory than the budget, or a lightmap larger than the
-// runtime takes; `suggestedTexel` is the smallest texel that fits.
+// runtime takes; `suggestedTexel` is the smallest outside texel that fits when every texel size
+// (outside, rooms, ground) grows by the same factor (0 when the meshes alone exceed the budget).
 class BakeBudgetError : public InputError {
 public:
     BakeBudgetError(const std::string& message, double suggestedTexel) : InputError(message), suggestedTexel_(suggestedTexel) {}
