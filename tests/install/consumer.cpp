@@ -1,7 +1,8 @@
 // Uses the installed dawnforge package from outside the project: one real call into each
-// of sim, exporters and runtime, so that the link pulls in their third-party libraries
+// of sim, exporters, bake and runtime, so that the link pulls in their third-party libraries
 // (CGAL, OpenVDB and Bullet for sim; tinygltf, OpenEXR and stb for exporters; Assimp for core;
-// epoxy, EGL and GLFW for runtime). Exits 0 and prints one line when all is well.
+// Embree for bake; epoxy, EGL and GLFW for runtime). Exits 0 and prints one line when all is well.
+#include <dawnforge/bake/ray_scene.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/scene.hpp>
 #include <dawnforge/exporters/gltf.hpp>
@@ -10,7 +11,11 @@
 #include <dawnforge/sim/fracture.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <span>
+#include <vector>
 #include <cstring>
 
 namespace {
@@ -39,6 +44,18 @@ int main() {
     for (const sim::FracturePiece& p : pieces.pieces) scene.addMeshNode(p.mesh, glm::vec3(p.mass.centerOfMass));
     const std::vector<std::byte> glb = exporters::encodeGlb(scene);
     if (glb.size() < 12 || std::memcmp(glb.data(), "glTF", 4) != 0) return fail("encodeGlb did not write a GLB");
+
+    // bake: one ray down onto one triangle through Embree.
+    const std::vector<glm::vec3> triangle{{-1, 0, -1}, {1, 0, -1}, {0, 0, 1}};
+    const std::vector<std::uint32_t> indices{0, 1, 2};
+    const bake::RayGeometry geometry{triangle, indices};
+    const bake::RayScene rays(std::span(&geometry, 1));
+    bake::Ray ray;
+    ray.origin = {0, 2, 0};
+    ray.direction = {0, -1, 0};
+    bake::Hit hit;
+    rays.intersect(std::span(&ray, 1), std::span(&hit, 1));
+    if (hit.geometry != 0 || !(std::abs(hit.t - 2.0f) < 1e-5f)) return fail("the ray missed the triangle");
 
     // runtime: the sky at noon needs no GL context. The context functions are only
     // referenced, which links the GL side (context, epoxy, EGL, GLFW) without running it.
