@@ -22,7 +22,6 @@
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 

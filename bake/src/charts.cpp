@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
-#include <cstdio>
-#include <cstdlib>
 #include <deque>
 #include <map>
 #include <numeric>
@@ -165,15 +163,7 @@ public:
                 const Adjacency& adj = adjacency_[i];
                 if (placed_[adj.other] || faces_[adj.other].texel != faces_[g].texel) continue;
                 std::vector<glm::dvec2> unfolded;
-                static const bool debug = std::getenv("DAWNFORGE_CHART_DEBUG") != nullptr;
-                if (!unfold(adj, corners.at(g), unfolded)) {
-                    if (debug) std::fprintf(stderr, "unfold failed %u -> %u\n", g, adj.other);
-                    continue;
-                }
-                if (!fits(adj, unfolded, occupancy, corners.at(g))) {
-                    if (debug) std::fprintf(stderr, "no fit %u (%zu tris, area %.2f, n %.1f %.1f %.1f) -> %u (%zu tris, area %.2f, n %.1f %.1f %.1f)\n", g, faces_[g].triangles.size(), faces_[g].area, faces_[g].normal.x, faces_[g].normal.y, faces_[g].normal.z, adj.other, faces_[adj.other].triangles.size(), faces_[adj.other].area, faces_[adj.other].normal.x, faces_[adj.other].normal.y, faces_[adj.other].normal.z);
-                    continue;
-                }
+                if (!unfold(adj, corners.at(g), unfolded) || !fits(adj, unfolded, occupancy, corners.at(g))) continue;
                 claim(adj.other, unfolded, occupancy);
                 corners.emplace(adj.other, std::move(unfolded));
                 placed_[adj.other] = 1;
