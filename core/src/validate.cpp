@@ -31,6 +31,7 @@
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -211,10 +212,12 @@ Topology analyse(const std::vector<Polygon>& faces, std::size_t pointCount) {
 
 // A soup that is manifold and consistently oriented, as a Surface_mesh whose face i is
 // polygon i; points that no polygon uses are left out (CGAL's algorithms expect none).
-// Throws InputError(`failure`) when the soup is not such a soup.
-// Built face by face rather than with polygon_soup_to_polygon_mesh(), whose precondition
-// check (on, with CGAL's assertions) costs as much as orienting the soup again.
+// Throws InputError(`failure`) when the soup is not such a soup (checked first: adding
+// the faces of one that is not can crash Surface_mesh, as orient_polygon_soup() leaves
+// some soups, e.g. fracture pieces that touch). Built face by face rather than with
+// polygon_soup_to_polygon_mesh(), which would check the soup a second time.
 SurfaceMesh toSurfaceMesh(const Soup& soup, const char* failure = "the triangles do not form a manifold surface") {
+    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) throw InputError(failure);
     SurfaceMesh sm;
     std::vector<Vertex> vertex(soup.points.size());
     sm.reserve(static_cast<SurfaceMesh::size_type>(soup.points.size()),
