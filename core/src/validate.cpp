@@ -7,7 +7,8 @@
 // the triangles along their intersections, and the faces kept are those between a region
 // of winding number 0 and one of winding number 1 (the union's boundary), the winding
 // numbers counted by ray crossings with exact predicates.
-// This is the only translation unit of core that includes CGAL (it compiles slowly).
+// Besides import_off.cpp (CGAL's OFF reader), this is the only translation unit of core that
+// includes CGAL (it compiles slowly).
 //
 // CGAL's assertions stay on here, Release or not: with NDEBUG they compile to nothing, and
 // a precondition that bad input breaks (inside autorefinement, say) then ends in a

@@ -1,8 +1,9 @@
 #pragma once
 // Voronoi fracture of a closed mesh (CGAL inside; plain data outside).
 //
-// Seeds are sampled uniformly inside the volume (TetGen tetrahedralisation, tetrahedra
-// chosen by volume), optionally denser around an impact point, or given by the caller.
+// Seeds are sampled uniformly inside the volume (points drawn in the grid cells that lie
+// inside the mesh or meet its surface, kept when CGAL's exact inside test says so),
+// optionally denser around an impact point, or given by the caller.
 // Each seed's Voronoi cell (bisector half-spaces of its Delaunay neighbours, clipped to
 // the mesh's bounding box) is intersected with the mesh by CGAL corefinement with exact
 // predicates. Cells are processed in a bounding-box hierarchy: each level intersects the
