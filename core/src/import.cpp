@@ -280,7 +280,15 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index, const 
     constexpr std::size_t kMaxElements = std::size_t(1) << 28;  // no real mesh comes near this
     if (a.count > kMaxElements)
         throw InputError(format("{}: accessor {} ({}) claims {} elements", source, index, what, a.count));
-    if (a.bufferView < 0) return std::vector<double>(a.count * std::size_t(components), 0.0);  // zeros, per the spec
+    if (a.bufferView < 0) {  // zeros, per the spec
+        // A usable one matches a POSITION accessor stored in the buffers, so it has no more
+        // elements than they have bytes; a bigger count would only take memory.
+        std::size_t bufferBytes = 0;
+        for (const tinygltf::Buffer& b : model.buffers) bufferBytes += b.data.size();
+        if (a.count > bufferBytes)
+            throw InputError(format("{}: accessor {} ({}) has no data but claims {} elements", source, index, what, a.count));
+        return std::vector<double>(a.count * std::size_t(components), 0.0);
+    }
     if (std::size_t(a.bufferView) >= model.bufferViews.size())
         throw InputError(format("{}: accessor {} refers to a missing bufferView", source, index));
     const tinygltf::BufferView& view = model.bufferViews[std::size_t(a.bufferView)];
@@ -362,18 +370,22 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
     if (auto v = vecAttribute("COLOR_0", 0); !v.empty()) {
         // Material IDs are read from COLOR_0 only when it is binary (every channel 0 or 1).
         const std::size_t c = v.size() / n;
+        if (c != 3 && c != 4) throw InputError(format("{}: COLOR_0 must have three or four components", source));
         if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; }))
             for (std::size_t i = 0; i < n; ++i)
                 mesh.materialIds.push_back(colorToMaterialId(
                     glm::vec4(float(v[c * i]), float(v[c * i + 1]), float(v[c * i + 2]), c == 4 ? float(v[c * i + 3]) : 0.0f)));
     }
     if (auto v = vecAttribute("_PIECE_ID", 1); !v.empty())
-        for (double x : v) mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
+        for (double x : v) {
+            if (std::isnan(x)) throw InputError(format("{}: a _PIECE_ID is not a number", source));
+            mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
+        }
 
     std::vector<std::uint32_t> order;
     if (prim.indices >= 0) {
         for (double x : readAccessor(model, prim.indices, source, "indices")) {
-            if (x >= double(n))
+            if (!(x >= 0.0 && x < double(n)))  // also NaN and negative (float or signed accessors)
                 throw InputError(format("{}: an index ({}) is out of range for {} vertices", source, x, n));
             order.push_back(static_cast<std::uint32_t>(x));
         }

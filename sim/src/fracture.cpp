@@ -164,17 +164,17 @@ struct Input {
     CGAL::Bbox_3 bbox;
 };
 
-Input makeInput(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes) {
+// `exact`: the vertices' positions in double (a re-fractured piece's grid points), or empty
+// for the mesh's own float positions.
+Input makeInput(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::span<const glm::dvec3> exact) {
     Input in{&mesh, planes, {}, {}};
-    const std::vector<std::uint32_t> canonical = weldByPosition(mesh.positions);
+    std::map<std::array<double, 3>, Vertex> welded;
     std::vector<Vertex> vertexOf(mesh.positions.size());
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        if (canonical[i] == i) {
-            const glm::vec3& p = mesh.positions[i];
-            vertexOf[i] = in.sm.add_vertex(Point(p.x, p.y, p.z));
-        } else {
-            vertexOf[i] = vertexOf[canonical[i]];
-        }
+        const glm::dvec3 p = exact.empty() ? glm::dvec3(mesh.positions[i]) : exact[i];
+        const auto [it, inserted] = welded.try_emplace({p.x, p.y, p.z}, Vertex());
+        if (inserted) it->second = in.sm.add_vertex(toPoint(p));
+        vertexOf[i] = it->second;
     }
     auto o = origins(in.sm);
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -488,14 +488,13 @@ struct Triangle {
     Origin origin;
 };
 
-// The grid every corner of every piece is rounded to. Along each axis its spacing h is the
-// power of two for which every world coordinate of the input and every coordinate relative to
-// a piece's pivot (itself on the grid) is a multiple of h of magnitude below 2^24·h: exactly a
-// float, and the float spacing of the input's largest coordinates, which stay where they are.
-// So the file holds exactly the points that were decided on (no second rounding can collapse
-// an edge), and exact integer arithmetic on grid coordinates can check and mend the surface
-// (collinearity and orientation survive the per-axis scaling). Rounding also absorbs CGAL's
-// run-to-run differences in the last bits of intersection points.
+// The grid the cutting rounds every corner to, per axis the power of two 2^-29 of the input's
+// reach. Integer coordinates on it stay below 2^29, so cross and dot products of their
+// differences are exact in 64-bit integers: the mending of each piece (detail::cleanSurface)
+// decides collapses, flat triangles and contacts exactly, and shared faces of neighbouring
+// pieces coincide corner for corner. The rounding also absorbs CGAL's run-to-run differences
+// in the last bits of intersection points. It moves the input by about 1e-9 of its size; the
+// files' float precision is applied afterwards, per piece (detail::roundForFiles).
 struct Grid {
     glm::dvec3 h{1.0};
     glm::i64vec3 key(const glm::dvec3& p) const {
@@ -510,7 +509,7 @@ Grid gridFor(const Bounds& b) {
     for (int axis = 0; axis < 3; ++axis) {
         const double reach = std::max({std::abs(double(b.min[axis])), std::abs(double(b.max[axis])),
                                        double(b.max[axis]) - double(b.min[axis]), 1e-30});
-        g.h[axis] = std::ldexp(1.0, std::ilogb(reach) + 1 - 24);
+        g.h[axis] = std::ldexp(1.0, std::ilogb(reach) + 1 - 29);
     }
     return g;
 }
@@ -803,9 +802,9 @@ std::vector<detail::RawPiece> roughFracture(const Mesh& mesh, const Cells& cells
 
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 // Seeds are settings.points, or sampled from the surface this call builds anyway.
-Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::int64_t cellBase,
-                  const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
-    Input in = makeInput(mesh, planes);
+Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::span<const glm::dvec3> exact,
+                  std::int64_t cellBase, const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
+    Input in = makeInput(mesh, planes, exact);
     std::vector<glm::dvec3> seeds = !settings.points.empty()
                                         ? settings.points
                                         : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
@@ -879,7 +878,7 @@ void checkInput(const Mesh& mesh) {
 
 std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings) {
     if (settings.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", settings.pieces));
-    const Input in = makeInput(mesh, nullptr);
+    const Input in = makeInput(mesh, nullptr, {});
     return sampleSeeds(in, settings.pieces, settings.seed, settings.impact, settings.impactRadius,
                        settings.impactDensity);
 }
@@ -933,7 +932,7 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
             sub.impact.reset();
             sub.points.clear();
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
-            Call call = fractureOnce(p.mesh, &p.planes, nextCell, grid, sub, noProgress);
+            Call call = fractureOnce(p.mesh, &p.planes, p.worldPositions, nextCell, grid, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
             for (detail::RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
@@ -947,23 +946,20 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
     return pieces;
 }
 
-// The pieces as written: named in order, the pivot (the centre of mass, on the grid) their
-// origin, every vertex tagged with its piece.
-std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces, const Grid& grid) {
+// The pieces as written: named in order, every vertex tagged with its piece; their meshes are
+// already relative to their pivots (detail::roundForFiles).
+std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces) {
     std::vector<FracturePiece> out(pieces.size());
     tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
         detail::RawPiece& raw = pieces[i];
         FracturePiece& piece = out[i];
         piece.name = pieceName(i);
         piece.mass = raw.mass;
-        piece.mass.centerOfMass = grid.snap(raw.mass.centerOfMass);  // on the grid, so the mesh is exact
         piece.cell = std::uint32_t(raw.cell);
         piece.level = raw.level;
         piece.part = raw.part;
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
-        for (std::size_t v = 0; v < piece.mesh.positions.size(); ++v)
-            piece.mesh.positions[v] = glm::vec3(raw.worldPositions[v] - piece.mass.centerOfMass);
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
         piece.closed = inspectMesh(piece.mesh).closed;
     });
@@ -987,15 +983,16 @@ FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& setting
 
     // The first fracture and each re-fracture level take a share of the progress bar.
     const double share = 1.0 / double(1 + settings.levels);
-    Call top = fractureOnce(mesh, nullptr, 0, grid, settings, [&](double f) { return progress(f * share); });
+    Call top = fractureOnce(mesh, nullptr, {}, 0, grid, settings, [&](double f) { return progress(f * share); });
     result.seeds = top.seeds;
     std::vector<detail::RawPiece> pieces =
         refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings, {},
                    [&](double f) { return progress(share + f * (1.0 - share)); });
     if (settings.minVolume > 0.0)
         result.merged = detail::mergeSmallPieces(pieces, settings.minVolume, settings.density, minArea);
+    pieces = detail::roundForFiles(std::move(pieces), settings.density);
     result.bonds = detail::bondsBetween(pieces, minArea);
-    result.pieces = finalPieces(pieces, grid);
+    result.pieces = finalPieces(pieces);
     progress(1.0);
     return result;
 }
@@ -1182,7 +1179,7 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
         if (cancelled) return;
         try {
-            calls[i] = fractureOnce(parts[i].mesh, &contacts.planes[i], cellBase[i], grid, partSettings[i], noProgress);
+            calls[i] = fractureOnce(parts[i].mesh, &contacts.planes[i], {}, cellBase[i], grid, partSettings[i], noProgress);
         } catch (const InputError& e) {
             throw InputError(format("part {} ({}): {}", i, parts[i].kind, e.what()));
         }
@@ -1200,11 +1197,15 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
     pieces = refracture(std::move(pieces), cellBase[n], grid, common, partSettings,
                         [&](double f) { return progress(share + f * (1.0 - share)); });
     if (common.minVolume > 0.0) result.merged = detail::mergeSmallPieces(pieces, common.minVolume, 1.0, minArea);
-    // Mass at each piece's own density (merging above measured volumes only).
-    for (detail::RawPiece& p : pieces)
-        p.mass = computeMassProperties(p.points, p.pointIndices, partSettings[std::size_t(p.part)].density);
+    // Rounded at unit density, then each piece weighed at its own part's density.
+    pieces = detail::roundForFiles(std::move(pieces), 1.0);
+    for (detail::RawPiece& p : pieces) {
+        const double density = partSettings[std::size_t(p.part)].density;
+        p.mass.mass *= density;
+        p.mass.inertia *= density;
+    }
     result.bonds = detail::bondsBetween(pieces, minArea);
-    result.pieces = finalPieces(pieces, grid);
+    result.pieces = finalPieces(pieces);
     for (const FracturePiece& p : result.pieces) ++result.parts[std::size_t(p.part)].pieces;
     progress(1.0);
     return result;

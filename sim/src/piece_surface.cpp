@@ -26,6 +26,7 @@ bool flat(std::span<const glm::i64vec3> p, const GridTriangle& t) {
 // The triangle rotated so that its corner `first` comes first (the cyclic order is kept).
 GridTriangle startingAt(GridTriangle t, int first) {
     std::rotate(t.v.begin(), t.v.begin() + first, t.v.end());
+    std::rotate(t.attr.begin(), t.attr.begin() + first, t.attr.end());
     return t;
 }
 
@@ -70,8 +71,12 @@ void flipFlatTriangles(std::span<const glm::i64vec3> p, std::vector<GridTriangle
         unindex(i);
         unindex(j);
         alive[i] = 0;
-        tris[j] = {{n.v[0], t.v[2], n.v[2]}, n.origin};  // (b, c, d)
-        tris.push_back({{t.v[2], n.v[1], n.v[2]}, n.origin});  // (c, a, d)
+        // c's attributes in the neighbour's face: along its edge from a to b.
+        const glm::i64vec3 ab = p[t.v[1]] - p[t.v[0]], ac = p[t.v[2]] - p[t.v[0]];
+        out.derived.push_back({n.attr[1], n.attr[0], double(dot(ac, ab)) / double(dot(ab, ab))});
+        const std::uint32_t c = kDerived | std::uint32_t(out.derived.size() - 1);
+        tris[j] = {{n.v[0], t.v[2], n.v[2]}, n.origin, {n.attr[0], c, n.attr[2]}};         // (b, c, d)
+        tris.push_back({{t.v[2], n.v[1], n.v[2]}, n.origin, {c, n.attr[1], n.attr[2]}});  // (c, a, d)
         alive.push_back(1);
         index(j);
         index(tris.size() - 1);

@@ -13,9 +13,21 @@
 
 namespace dawnforge::sim::detail {
 
+// A corner's attributes (normal, UVs, material) are the caller's vertex `attr`; a corner that a
+// flip made on a neighbour's edge has kDerived | i, the i-th entry of CleanSurface::derived.
+inline constexpr std::uint32_t kDerived = 0x80000000u;
+
 struct GridTriangle {
-    std::array<std::uint32_t, 3> v;  // indices into the grid points, counter-clockwise seen from outside
-    std::int64_t origin;             // what the triangle lies on (carried through, never read)
+    std::array<std::uint32_t, 3> v;    // indices into the grid points, counter-clockwise seen from outside
+    std::int64_t origin;               // what the triangle lies on (carried through, never read)
+    std::array<std::uint32_t, 3> attr{};  // per corner, carried through (see kDerived)
+};
+
+// The attributes of a corner made on the edge from the corner with attributes `from` to the one
+// with `to`, at `t` of the way: interpolate them.
+struct DerivedCorner {
+    std::uint32_t from = 0, to = 0;
+    double t = 0.0;
 };
 
 struct CleanSurface {
@@ -24,6 +36,7 @@ struct CleanSurface {
     std::size_t flattened = 0;                     // zero-area triangles flipped away into a neighbour
     std::size_t cancelled = 0;                     // triangles dropped in pairs: the same points, facing apart
     std::size_t unmended = 0;                      // zero-area triangles left (no neighbour to flip with)
+    std::vector<DerivedCorner> derived;            // attributes of corners that flips made
 };
 
 // Drops collapsed triangles; replaces each zero-area triangle (a, b, c) with c on edge ab, and

@@ -1,8 +1,14 @@
 #include "pieces.hpp"
 
 #include "contact.hpp"
+#include "piece_surface.hpp"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <map>
 #include <optional>
@@ -104,7 +110,113 @@ std::optional<RawPiece> joined(const RawPiece& a, const RawPiece& b, double dens
     return out;
 }
 
+// Per axis, the power-of-two spacing whose multiples up to `reach` are exact floats.
+glm::dvec3 floatGrid(const glm::dvec3& reach) {
+    glm::dvec3 h;
+    for (int axis = 0; axis < 3; ++axis) h[axis] = std::ldexp(1.0, std::ilogb(std::max(reach[axis], 1e-30)) + 1 - 24);
+    return h;
+}
+
+// The attributes of corner `attr` of a cleaned part: a vertex of `p`, or one a flip made on
+// an edge, interpolated.
+struct Attributes {
+    glm::vec3 normal{0.0f};
+    glm::vec2 uv{0.0f};
+    std::uint8_t material = 0;
+};
+Attributes attributesOf(const RawPiece& p, const std::vector<DerivedCorner>& derived, std::uint32_t attr) {
+    if (!(attr & kDerived)) return {p.mesh.normals[attr], p.mesh.uv0[attr], p.mesh.materialIds[attr]};
+    const DerivedCorner& d = derived[attr & ~kDerived];
+    const Attributes a = attributesOf(p, derived, d.from), b = attributesOf(p, derived, d.to);
+    const float t = float(d.t);
+    const glm::vec3 n = a.normal + (b.normal - a.normal) * t;
+    return {glm::length(n) > 0.0f ? glm::normalize(n) : a.normal, a.uv + (b.uv - a.uv) * t, a.material};
+}
+
+// One cleaned part of `p` as a piece on the rounding grid (h, relative to `pivot`).
+RawPiece partPiece(const RawPiece& p, const std::vector<GridTriangle>& part, const CleanSurface& clean,
+                   std::span<const glm::i64vec3> keys, const glm::dvec3& pivot, const glm::dvec3& h, double density) {
+    RawPiece out;
+    out.mesh.name = p.mesh.name;
+    out.cell = p.cell;
+    out.level = p.level;
+    out.part = p.part;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> vertexOf;  // (attributes, point)
+    std::map<std::uint32_t, std::uint32_t> pointOf;
+    for (const GridTriangle& t : part) {
+        out.planes.push_back(p.planes[std::size_t(t.origin)]);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const glm::dvec3 local = glm::dvec3(keys[t.v[k]]) * h;
+            const auto [v, newVertex] = vertexOf.try_emplace({t.attr[k], t.v[k]}, std::uint32_t(out.mesh.positions.size()));
+            if (newVertex) {
+                const Attributes a = attributesOf(p, clean.derived, t.attr[k]);
+                out.mesh.positions.push_back(glm::vec3(local));
+                out.mesh.normals.push_back(a.normal);
+                out.mesh.uv0.push_back(a.uv);
+                out.mesh.materialIds.push_back(a.material);
+                out.worldPositions.push_back(pivot + local);
+            }
+            out.mesh.indices.push_back(v->second);
+            const auto [q, newPoint] = pointOf.try_emplace(t.v[k], std::uint32_t(out.points.size()));
+            if (newPoint) out.points.push_back(pivot + local);
+            out.pointIndices.push_back(q->second);
+        }
+    }
+    out.mass = computeMassProperties(out.points, out.pointIndices, density);
+    return out;
+}
+
+// `p` rounded for the files, as one piece or, where rounding made it touch itself, several.
+void roundPiece(const RawPiece& p, double density, bool resplit, std::vector<RawPiece>& out) {
+    const glm::dvec3 pivot(glm::vec3(p.mass.centerOfMass));
+    glm::dvec3 reach(0.0);
+    for (const glm::dvec3& q : p.points) reach = glm::max(reach, glm::abs(q - pivot));
+    const glm::dvec3 h = floatGrid(reach);
+    std::vector<glm::i64vec3> keys;
+    std::map<std::array<std::int64_t, 3>, std::uint32_t> idOf;
+    std::vector<std::uint32_t> pointId(p.points.size());
+    for (std::size_t i = 0; i < p.points.size(); ++i) {
+        const glm::dvec3 k = glm::round((p.points[i] - pivot) / h);
+        const auto [it, inserted] = idOf.try_emplace({std::int64_t(k.x), std::int64_t(k.y), std::int64_t(k.z)},
+                                                     std::uint32_t(keys.size()));
+        if (inserted) keys.emplace_back(k);
+        pointId[i] = it->second;
+    }
+    std::vector<GridTriangle> tris;
+    for (std::size_t t = 0; t < p.planes.size(); ++t) {
+        GridTriangle g{{}, std::int64_t(t), {}};
+        for (std::size_t k = 0; k < 3; ++k) {
+            g.v[k] = pointId[p.pointIndices[3 * t + k]];
+            g.attr[k] = p.mesh.indices[3 * t + k];
+        }
+        tris.push_back(g);
+    }
+    const CleanSurface clean = cleanSurface(keys, std::move(tris));
+    for (const std::vector<GridTriangle>& part : clean.parts) {
+        RawPiece piece = partPiece(p, part, clean, keys, pivot, h, density);
+        if (clean.parts.size() > 1 && resplit) {  // a part's own centre of mass is its pivot
+            roundPiece(piece, density, false, out);
+            continue;
+        }
+        piece.pivot = pivot;
+        piece.mass.centerOfMass = pivot;
+        out.push_back(std::move(piece));
+    }
+}
+
 }  // namespace
+
+std::vector<RawPiece> roundForFiles(std::vector<RawPiece> pieces, double density) {
+    std::vector<std::vector<RawPiece>> rounded(pieces.size());
+    tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
+        roundPiece(pieces[i], density, true, rounded[i]);
+        pieces[i] = RawPiece();
+    });
+    std::vector<RawPiece> out;
+    for (std::vector<RawPiece>& list : rounded)
+        for (RawPiece& p : list) out.push_back(std::move(p));
+    return out;
+}
 
 std::vector<Bond> bondsBetween(std::span<const RawPiece> pieces, double minArea) {
     std::vector<Bond> bonds;

@@ -186,8 +186,7 @@ TEST(Cli, RepairWritesAValidClosedMesh) {
     EXPECT_EQ(j["closed"], false);
     EXPECT_EQ(j["repair"]["result"]["closed"], true);
     EXPECT_NEAR(j["repair"]["result"]["volume"].get<double>(), 1.0, 1e-9);
-    const RunResult v = test::validateGltf(out);
-    EXPECT_EQ(v.exitCode, 0) << v.out;
+    test::expectValidGltf(out);
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"fixed.glb"});
 }
 
@@ -209,8 +208,7 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
     EXPECT_GT(glbA.size(), 1000u);
     EXPECT_EQ(glbA, test::readBytes(dir / "b" / "fracture" / "fragments.glb"));
     EXPECT_EQ(glbA, test::readBytes(dir / "a" / "sim" / "fragments.glb"));  // the simulation folder's own copy
-    const RunResult v = test::validateGltf(dir / "a" / "fracture" / "fragments.glb");
-    EXPECT_EQ(v.exitCode, 0) << v.out;
+    test::expectValidGltf(dir / "a" / "fracture" / "fragments.glb");
     // The demo ends with a picture of its scene, the same each time.
     EXPECT_NE(a.out.find("render.png"), std::string::npos);
     const Image picture = readPng(dir / "a" / "render.png");
@@ -238,8 +236,7 @@ TEST(CliFracture, WritesValidFilesThatAgreeWithEachOther) {
         {"fracture", (dir / "sphere.obj").string(), "-o", (dir / "out").string(), "--pieces", "20", "--seed", "7"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("20 pieces"), std::string::npos) << r.out;
-    const RunResult v = test::validateGltf(dir / "out" / "fragments.glb");
-    EXPECT_EQ(v.exitCode, 0) << v.out;
+    test::expectValidGltf(dir / "out" / "fragments.glb");
 
     const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "out" / "fracture.json"));
     EXPECT_EQ(j["seed"], 7);
@@ -407,8 +404,7 @@ TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
         EXPECT_EQ(j["height"], 60);
         EXPECT_EQ(j["frames"], 20);
         EXPECT_LT(j["max_vertex_error"].get<double>(), 1e-3);
-        const RunResult v = test::validateGltf(dir / "vat" / (std::string(preset) + "_mesh.glb"));
-        EXPECT_EQ(v.exitCode, 0) << v.out;
+        test::expectValidGltf(dir / "vat" / (std::string(preset) + "_mesh.glb"));
     }
     const RunResult half = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "half").string(), "--half"});
     ASSERT_EQ(half.exitCode, 0) << half.err;
@@ -456,8 +452,7 @@ TEST(CliCity, WritesAValidGlbAndAReportThatAgree) {
     const RunResult r = test::runDawnforge({"--quiet", "city", "-o", (dir / "c").string(), "--size", "300x240", "--seed", "4"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("buildings"), std::string::npos);
-    const RunResult v = test::validateGltf(dir / "c" / "city.glb");
-    EXPECT_EQ(v.exitCode, 0) << v.out;
+    test::expectValidGltf(dir / "c" / "city.glb");
     const nlohmann::json report = nlohmann::json::parse(test::readText(dir / "c" / "city.json"));
     EXPECT_EQ(report["seed"], 4);
     EXPECT_EQ(report["size"][0], 300.0);
@@ -509,8 +504,7 @@ TEST(CliCity, RecipesFromTheExamplesWork) {
         const std::string recipe = test::dataFile("../../examples/recipes/").string() + name + ".json";
         const RunResult r = test::runDawnforge({"--quiet", "city", "-o", (dir / name).string(), "--size", "260x220", "--recipe", recipe});
         ASSERT_EQ(r.exitCode, 0) << name << ": " << r.err;
-        const RunResult v = test::validateGltf(dir / name / "city.glb");
-        EXPECT_EQ(v.exitCode, 0) << v.out;
+        test::expectValidGltf(dir / name / "city.glb");
     }
     // The two recipes make different towns: downtown is taller.
     auto meanFloors = [&](const char* name) {

@@ -651,9 +651,9 @@ TEST(Vat, ExrheaderReadsTheTextures) {
 TEST(Vat, MeshPassesTheKhronosValidator) {
     const Animation animation;
     for (VatPreset preset : kPresets) {
+        SCOPED_TRACE(vatPresetName(preset));
         const Baked baked(animation, preset, false);
-        const test::RunResult v = test::validateGltf(baked.dir / "crate_mesh.glb");
-        EXPECT_EQ(v.exitCode, 0) << vatPresetName(preset) << "\n" << v.out << v.err;
+        test::expectValidGltf(baked.dir / "crate_mesh.glb");
     }
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <gtest/gtest.h>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -97,8 +98,16 @@ RunResult run(const std::string& program, const std::vector<std::string>& args) 
 
 RunResult runDawnforge(const std::vector<std::string>& args) { return run(DAWNFORGE_EXE, args); }
 
-RunResult validateGltf(const fs::path& file) {
-    return run(DAWNFORGE_NODE, {DAWNFORGE_GLTF_VALIDATOR, file.string()});
+void expectValidGltf(const fs::path& file) {
+    const fs::path validator(DAWNFORGE_GLTF_VALIDATOR);
+    if (std::string(DAWNFORGE_NODE).empty())
+        GTEST_SKIP() << "node was not found when configuring: " << file.filename() << " was not validated";
+    if (!fs::exists(validator.parent_path() / "node_modules/gltf-validator/package.json"))
+        GTEST_SKIP() << "the glTF-Validator is not installed (npm ci in " << validator.parent_path() << "): "
+                     << file.filename() << " was not validated";
+    const RunResult v = run(DAWNFORGE_NODE, {validator.string(), file.string()});
+    EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
+    EXPECT_NE(v.out.find(": 0 errors"), std::string::npos) << v.out;
 }
 
 std::size_t lineCount(const std::string& text) {
