@@ -1019,19 +1019,19 @@ const char* breakStyleName(BreakStyle style) {
 
 std::array<MaterialBreak, kMaterialCount> defaultMaterialBreaks() {
     std::array<MaterialBreak, kMaterialCount> table;
-    table.fill({BreakStyle::Voronoi, 2400.0});
+    table.fill({BreakStyle::Voronoi, 2400.0, 1e6});
     table[kAsphalt].density = 2300.0;
     table[kPaving].density = 2300.0;
-    table[kBrick].density = 1900.0;
-    table[kPlaster].density = 1200.0;
-    table[kGlass] = {BreakStyle::Shards, 2500.0};
+    table[kBrick] = {BreakStyle::Voronoi, 1900.0, 5e5};
+    table[kPlaster] = {BreakStyle::Voronoi, 1200.0, 2e5};
+    table[kGlass] = {BreakStyle::Shards, 2500.0, 5e4};
     table[kMetal].density = 1500.0;  // railings are bars and air, drawn as solid plates
-    table[kTrim].density = 2200.0;
-    table[kRoofTiles].density = 1800.0;
-    table[kWood] = {BreakStyle::Splinters, 600.0};
-    table[kInteriorWall].density = 1200.0;
-    table[kSand].density = 1600.0;
-    table[kRubble].density = 1900.0;
+    table[kTrim] = {BreakStyle::Voronoi, 2200.0, 5e5};
+    table[kRoofTiles] = {BreakStyle::Voronoi, 1800.0, 5e5};
+    table[kWood] = {BreakStyle::Splinters, 600.0, 3e5};
+    table[kInteriorWall] = {BreakStyle::Voronoi, 1200.0, 2e5};
+    table[kSand] = {BreakStyle::Voronoi, 1600.0, 1e5};
+    table[kRubble] = {BreakStyle::Voronoi, 1900.0, 1e5};
     return table;
 }
 
@@ -1072,18 +1072,19 @@ void checkPartsSettings(std::span<const FracturePart> parts, const PartsFracture
     if (parts.empty()) throw InputError("there are no parts to fracture");
     FractureSettings common = s.common;
     common.points.clear();
-    common.pieces = 1;
     checkSettings(common);
-    if (s.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", s.pieces));
     if (!(s.shardSize > 0.0) || !std::isfinite(s.shardSize))
         throw InputError(format("the shard size must be positive (got {})", s.shardSize));
     if (!(s.splinterWidth > 0.0) || !(s.splinterLength >= s.splinterWidth) || !std::isfinite(s.splinterLength))
         throw InputError(format("splinters need a positive width and a length at least as large (got {} by {})",
                                 s.splinterWidth, s.splinterLength));
     if (s.common.roughness > 0.0) throw InputError("rough cut surfaces are not available when fracturing parts");
-    for (const MaterialBreak& m : s.materials)
+    for (const MaterialBreak& m : s.materials) {
         if (!(m.density > 0.0) || !std::isfinite(m.density))
             throw InputError(format("a material's density must be positive (got {})", m.density));
+        if (!(m.strength >= 0.0) || !std::isfinite(m.strength))
+            throw InputError(format("a material's strength must not be negative (got {})", m.strength));
+    }
     std::size_t triangles = 0;
     for (std::size_t i = 0; i < parts.size(); ++i) {
         const FracturePart& part = parts[i];
@@ -1098,16 +1099,11 @@ void checkPartsSettings(std::span<const FracturePart> parts, const PartsFracture
                                 triangles, kMaxFractureTriangles));
 }
 
-FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
-                                    const ProgressFn& progress) {
-    checkPartsSettings(parts, settings);
-    const FractureSettings& common = settings.common;
-    const std::size_t n = parts.size();
-    FractureResult result;
-    result.parts.resize(n);
-    std::vector<double> weights(n, 0.0);
+// Checks each part and records what it is (result.parts), with the bounds of them all.
+Bounds describeParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings, FractureResult& result) {
+    result.parts.resize(parts.size());
     Bounds all{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < parts.size(); ++i) {
         const FracturePart& part = parts[i];
         try {
             checkInput(part.mesh);
@@ -1122,18 +1118,25 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
         r.style = settings.materials[part.material].style;
         r.volume = volumeOf(part.mesh);
         r.triangles = part.mesh.triangleCount();
-        if (r.style == BreakStyle::Voronoi) weights[i] = weightedVolume(part.mesh, common);
         const Bounds b = computeBounds(part.mesh.positions);
         all.min = glm::min(all.min, b.min);
         all.max = glm::max(all.max, b.max);
         result.inputVolume += r.volume;
         result.inputTriangles += r.triangles;
     }
-    const double totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+    return all;
+}
 
-    // Each part's settings: its cells, density, seed and grain.
-    std::vector<FractureSettings> partSettings(n, common);
-    std::vector<std::int64_t> cellBase(n + 1, 0);
+// Each part's own settings: its cells (Voronoi parts share `pieces` by weighted volume;
+// shards and splinters by the area of one face of the plate), density, seed and grain.
+std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
+                                        FractureResult& result) {
+    const std::size_t n = parts.size();
+    std::vector<double> weights(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (result.parts[i].style == BreakStyle::Voronoi) weights[i] = weightedVolume(parts[i].mesh, settings.common);
+    const double totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+    std::vector<FractureSettings> partSettings(n, settings.common);
     for (std::size_t i = 0; i < n; ++i) {
         const FracturePart& part = parts[i];
         FractureSettings& ps = partSettings[i];
@@ -1141,7 +1144,7 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
         double cells = 1.0;
         switch (result.parts[i].style) {
             case BreakStyle::Voronoi:
-                cells = totalWeight > 0.0 ? settings.pieces * weights[i] / totalWeight : 1.0;
+                cells = totalWeight > 0.0 ? settings.common.pieces * weights[i] / totalWeight : 1.0;
                 break;
             case BreakStyle::Shards: cells = area / (settings.shardSize * settings.shardSize); break;
             case BreakStyle::Splinters:
@@ -1152,7 +1155,7 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
         }
         ps.pieces = int(std::clamp(std::round(cells), 1.0, 100000.0));
         ps.density = settings.materials[part.material].density;
-        ps.seed = deriveSeed(common.seed, "fracture-part", i);
+        ps.seed = deriveSeed(settings.common.seed, "fracture-part", i);
         ps.levels = 0;
         ps.points.clear();
         if (ps.pieces == 1) {  // the whole part is one piece: no seed to sample
@@ -1160,18 +1163,21 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
             ps.points.push_back(0.5 * (b.min + b.max));
         }
         result.parts[i].cells = std::size_t(ps.pieces);
-        cellBase[i + 1] = cellBase[i] + ps.pieces;
     }
+    return partSettings;
+}
 
+// Level 0 of every part, in parallel, each into its own slot; pieces come part by part.
+std::vector<detail::RawPiece> fractureEachPart(std::span<const FracturePart> parts,
+                                               std::span<const FractureSettings> partSettings, const Grid& grid,
+                                               double share, const ProgressFn& progress, FractureResult& result) {
+    const std::size_t n = parts.size();
+    std::vector<std::int64_t> cellBase(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) cellBase[i + 1] = cellBase[i] + partSettings[i].pieces;
     // Where parts touch: their faces there become contact faces, bonded like cut faces.
     std::vector<const Mesh*> meshes;
     for (const FracturePart& part : parts) meshes.push_back(&part.mesh);
     const detail::PartContacts contacts = detail::partContacts(meshes);
-
-    const Grid grid = gridFor(all);  // one grid: touching faces of two parts stay on one plane
-    const double diagonal = glm::length(all.max - all.min);
-    const double minArea = 1e-12 * diagonal * diagonal;
-    const double share = 1.0 / double(1 + common.levels);
     std::vector<Call> calls(n);
     std::atomic<std::size_t> done{0};
     std::mutex progressMutex;
@@ -1194,7 +1200,24 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
         result.seeds.insert(result.seeds.end(), call.seeds.begin(), call.seeds.end());
         for (detail::RawPiece& p : call.pieces) pieces.push_back(std::move(p));
     }
-    pieces = refracture(std::move(pieces), cellBase[n], grid, common, partSettings,
+    return pieces;
+}
+
+FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
+                                    const ProgressFn& progress) {
+    checkPartsSettings(parts, settings);
+    const FractureSettings& common = settings.common;
+    FractureResult result;
+    const Bounds all = describeParts(parts, settings, result);
+    const std::vector<FractureSettings> partSettings = planParts(parts, settings, result);
+    const Grid grid = gridFor(all);  // one grid: touching faces of two parts stay on one plane
+    const double diagonal = glm::length(all.max - all.min);
+    const double minArea = 1e-12 * diagonal * diagonal;
+    const double share = 1.0 / double(1 + common.levels);
+    std::vector<detail::RawPiece> pieces = fractureEachPart(parts, partSettings, grid, share, progress, result);
+    std::int64_t nextCell = 0;
+    for (const FractureSettings& ps : partSettings) nextCell += ps.pieces;
+    pieces = refracture(std::move(pieces), nextCell, grid, common, partSettings,
                         [&](double f) { return progress(share + f * (1.0 - share)); });
     if (common.minVolume > 0.0) result.merged = detail::mergeSmallPieces(pieces, common.minVolume, 1.0, minArea);
     // Rounded at unit density, then each piece weighed at its own part's density.
@@ -1206,7 +1229,13 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
     }
     result.bonds = detail::bondsBetween(pieces, minArea);
     result.pieces = finalPieces(pieces);
-    for (const FracturePiece& p : result.pieces) ++result.parts[std::size_t(p.part)].pieces;
+    for (FracturePiece& p : result.pieces) {
+        p.material = parts[std::size_t(p.part)].material;
+        ++result.parts[std::size_t(p.part)].pieces;
+    }
+    for (Bond& b : result.bonds)
+        b.strength = std::min(settings.materials[result.pieces[b.a].material].strength,
+                              settings.materials[result.pieces[b.b].material].strength);
     progress(1.0);
     return result;
 }

@@ -54,6 +54,7 @@ struct FracturePiece {
     std::uint32_t cell = 0;                     // the seed (Voronoi cell) it came from
     std::uint32_t level = 0;                    // 0, or the re-fracture level that made it
     std::int32_t part = -1;                     // fractureParts: the part it came from; -1 otherwise
+    std::uint8_t material = 0;                  // fractureParts: what its part is made of
     bool closed = false;
 };
 
@@ -62,6 +63,7 @@ struct Bond {
     double area = 0.0;                          // shared cut-face area (m^2)
     glm::dvec3 centroid{0.0};                   // of the shared face
     glm::dvec3 normal{0.0};                     // unit, pointing from a to b
+    double strength = 0.0;                      // Pa; 0: SimulationSettings::strength decides
 };
 
 // One part of an assembly as fractureParts broke it.

@@ -28,12 +28,15 @@ namespace dawnforge::sim {
 // How one material breaks.
 struct MaterialBreak {
     BreakStyle style = BreakStyle::Voronoi;
-    double density = 2400.0;  // kg/m^3
+    double density = 2400.0;   // kg/m^3
+    double strength = 1e6;     // Pa: the glue of its bonds (a bond between two materials takes the weaker)
 };
 
 // Per core material (core/materials.hpp): glass shatters into shards, wood splinters, the
 // rest breaks into Voronoi cells; densities of the real materials (brick 1900, concrete
-// 2400, plaster 1200, glass 2500, wood 600, metal 1500 for railings that are mostly air, ...).
+// 2400, plaster 1200, glass 2500, wood 600, metal 1500 for railings that are mostly air, ...);
+// glue strengths in the ratio of the materials' tensile strengths, scaled so that the
+// simulation's default (1e6 Pa) is concrete's: glass 5e4, plaster 2e5, wood 3e5, brick 5e5.
 std::array<MaterialBreak, kMaterialCount> defaultMaterialBreaks();
 
 struct FracturePart {
@@ -44,21 +47,21 @@ struct FracturePart {
 };
 
 struct PartsFractureSettings {
-    int pieces = 250;                 // Voronoi cells shared by the Voronoi parts (at least one each)
     double shardSize = 0.5;           // glass: shards about this wide (m)
     double splinterWidth = 0.15;      // wood: splinters about this wide (m)...
     double splinterLength = 0.9;      // ...and this long along the grain (m)
-    // The rest as for one mesh: seed, impact and its radius and density boost (weighting
-    // both how many cells each Voronoi part gets and where they fall), levels and level
-    // pieces, cut-face material and UV scale, minVolume (pieces merge within their part).
-    // pieces, points, density, roughness, grain and stretch are not used.
+    // The rest as for one mesh: pieces (the Voronoi cells shared by the Voronoi parts by
+    // weighted volume, at least one each), seed, impact and its radius and density boost
+    // (weighting both how many cells each Voronoi part gets and where they fall), levels and
+    // level pieces, cut-face material and UV scale, minVolume (pieces merge within their part).
+    // points, density, roughness, grain and stretch are not used.
     FractureSettings common;
     std::array<MaterialBreak, kMaterialCount> materials = defaultMaterialBreaks();
 };
 
 // Fractures every part (each closed, manifold, outward and free of self-intersections:
 // an InputError names the part that is not) and bonds the pieces, within a part and across
-// parts that touch. Pieces come part by part; FracturePiece::part says which, and
+// parts that touch; each bond's strength is the weaker of its two pieces' materials'. Pieces come part by part; FracturePiece::part says which, and
 // FractureResult::parts holds what each part became. Deterministic whatever the number of
 // threads.
 FractureResult fractureParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
