@@ -83,7 +83,7 @@ Mesh loadInput(const FractureOptions& options) {
     Mesh mesh = loadMesh(options.file);
     if (!options.repair) return mesh;
     RepairReport report;
-    mesh = repairMesh(mesh, &report);
+    mesh = repairFile(mesh, options.file, &report);
     for (const std::string& action : report.actions)
         std::fprintf(stderr, "dawnforge fracture: repaired %s: %s\n", options.file.string().c_str(), action.c_str());
     return mesh;
@@ -175,6 +175,8 @@ int runFracture(FractureOptions& options, const CommonOptions& common) {
             throw InputError(format("{}: {}", options.file.string(), e.what()));
         }
     }
+    for (const std::string& note : result.notes)
+        std::fprintf(stderr, "dawnforge fracture: %s: %s\n", options.file.string().c_str(), note.c_str());
     writeFractureFolder(result, settings, options.file.string(), options.outputDir);
     printSummary(options, result, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return 0;

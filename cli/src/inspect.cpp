@@ -47,7 +47,7 @@ int runInspect(const InspectOptions& options) {
     out.update(reportJson(inspectMesh(mesh)));
     if (!options.repairOutput.empty()) {
         RepairReport repair;
-        Mesh fixed = repairMesh(mesh, &repair);
+        Mesh fixed = repairFile(mesh, options.file, &repair);
         Scene scene;
         scene.addMeshNode(fixed);
         exporters::writeGlb(scene, options.repairOutput);

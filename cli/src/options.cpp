@@ -45,4 +45,12 @@ StderrProgress progressFor(const char* label, const CommonOptions& common) {
     return StderrProgress(label, !common.quiet && stderrIsTerminal());
 }
 
+Mesh repairFile(const Mesh& mesh, const std::filesystem::path& file, RepairReport* report) {
+    try {
+        return repairMesh(mesh, report);
+    } catch (const InputError& e) {
+        throw InputError(format("{}: {}", file.string(), e.what()));
+    }
+}
+
 }  // namespace dawnforge::cli

@@ -2,11 +2,13 @@
 // What every command's options share: the common flags, the one --threads option, the one
 // W x H parser, X,Y,Z points, and progress on stderr.
 #include <dawnforge/core/progress.hpp>
+#include <dawnforge/core/validate.hpp>
 
 #include <CLI/CLI.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -31,5 +33,8 @@ CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::opt
 
 // Progress on stderr for `label`, shown when stderr is a terminal and --quiet is not given.
 StderrProgress progressFor(const char* label, const CommonOptions& common);
+
+// repairMesh() on the mesh of `file`, its errors naming the file.
+Mesh repairFile(const Mesh& mesh, const std::filesystem::path& file, RepairReport* report);
 
 }  // namespace dawnforge::cli

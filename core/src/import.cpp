@@ -2,6 +2,7 @@
 // dawnforge writes: material IDs in COLOR_0, piece IDs, node names), every other format
 // through Assimp (import_assimp.cpp).
 #include "import_assimp.hpp"
+#include "import_off.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -25,6 +26,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <optional>
 #include <span>
 #include <sstream>
 
@@ -232,6 +234,23 @@ Mesh loadObj(const fs::path& file, const std::string& name) {
     }
     if (!anyNormal) mesh.normals.clear();
     if (!anyUv) mesh.uv0.clear();
+    return mesh;
+}
+
+// OFF, through CGAL's reader; faces of more than three corners as OBJ's are.
+Mesh loadOff(const fs::path& file, const std::string& name) {
+    const detail::Polygons soup = detail::readOff(file, name);
+    Mesh mesh;
+    mesh.name = file.stem().string();
+    mesh.positions.reserve(soup.points.size());
+    for (const glm::dvec3& p : soup.points) mesh.positions.emplace_back(p);
+    std::vector<glm::dvec3> corners;
+    for (const std::vector<std::uint32_t>& face : soup.faces) {
+        corners.clear();
+        for (const std::uint32_t i : face) corners.push_back(soup.points[i]);
+        for (const auto& t : triangulatePolygon(corners))
+            mesh.indices.insert(mesh.indices.end(), {face[t[0]], face[t[1]], face[t[2]]});
+    }
     return mesh;
 }
 
@@ -572,15 +591,23 @@ std::vector<MeshNode> loadNodes(const fs::path& file, const std::string& name, c
                             name, ext));
 }
 
+// The formats read as one mesh, without nodes: OBJ and OFF; nothing for the others.
+std::optional<Mesh> loadWholeMesh(const fs::path& file, const std::string& name, const std::string& ext) {
+    if (ext == ".obj") return loadObj(file, name);
+    if (ext == ".off") return loadOff(file, name);
+    return std::nullopt;
+}
+
 }  // namespace
 
 Mesh loadMesh(const fs::path& file) {
     const std::string name = file.string();
     checkReadable(file, name);
     const std::string ext = lowerExtension(file);
+    std::optional<Mesh> whole = loadWholeMesh(file, name, ext);
     Mesh mesh;
-    if (ext == ".obj") {
-        mesh = loadObj(file, name);
+    if (whole) {
+        mesh = std::move(*whole);
     } else {
         mesh.name = file.stem().string();
         for (const MeshNode& node : loadNodes(file, name, ext)) appendMesh(mesh, node.mesh, node.world);
@@ -594,11 +621,11 @@ std::vector<MeshNode> loadMeshNodes(const fs::path& file) {
     checkReadable(file, name);
     const std::string ext = lowerExtension(file);
     std::vector<MeshNode> nodes;
-    if (ext == ".obj") {
-        MeshNode whole;
-        whole.name = file.stem().string();
-        whole.mesh = loadObj(file, name);
-        nodes.push_back(std::move(whole));
+    if (std::optional<Mesh> whole = loadWholeMesh(file, name, ext)) {
+        MeshNode node;
+        node.name = file.stem().string();
+        node.mesh = std::move(*whole);
+        nodes.push_back(std::move(node));
     } else {
         nodes = loadNodes(file, name, ext);
     }

@@ -1,5 +1,6 @@
 // Mesh import through Assimp 5.2 (Debian's libassimp-dev): every format it reads except
-// OBJ and glTF, which tinyobjloader and tinygltf read (import.cpp).
+// OBJ and glTF, which tinyobjloader and tinygltf read (import.cpp), and OFF, which CGAL
+// reads (import_off.cpp).
 //
 // Units and axes: dawnforge is metres, +Y up, right-handed (glTF). What Assimp 5.2.5
 // already does, read in its source (github.com/assimp/assimp, tag v5.2.5) and checked on
@@ -24,7 +25,7 @@
 // - 3DS: code/AssetLib/3DS/3DSConverter.cpp rotates Z up to Y up at the root, and
 //   3DSLoader.cpp (ApplyMasterScale) scales the root by 1 / the master scale. Taken as
 //   metres after that.
-// - STL, PLY, OFF and the rest carry no unit: their coordinates are taken as metres, with
+// - STL, PLY and the rest carry no unit: their coordinates are taken as metres, with
 //   the axes as they are.
 #include "import_assimp.hpp"
 
@@ -174,49 +175,6 @@ private:
     std::streambuf* err_;
 };
 
-// Assimp's OFF reader allocates (and zeroes) the vertex count of the header before it
-// reads a line, and reads that count as a 32-bit number that wraps: a 309-byte file that
-// claims 353535235358 vertices (assimp-testmodels' invalid/OutOfMemory.off) runs for
-// minutes and gigabytes. Counts the file cannot hold (a vertex line is at least two bytes
-// per coordinate, a face line at least four) are refused first.
-void checkOffHeader(const fs::path& file, const std::string& name) {
-    std::ifstream in(file, std::ios::binary);
-    std::string token;
-    std::vector<std::string> tokens;
-    while (tokens.size() < 4 && in >> token) {
-        if (token.starts_with("#")) {
-            in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-            continue;
-        }
-        tokens.push_back(token);
-    }
-    std::size_t at = 0;
-    int dimensions = 3;
-    if (!tokens.empty() && tokens[0].ends_with("OFF")) {
-        if (tokens[0].find('n') != std::string::npos) ++at;  // nOFF: a dimension comes first
-        if (tokens[0].find('4') != std::string::npos) ++dimensions;
-        ++at;
-    }
-    auto count = [&](std::size_t i) -> std::optional<unsigned long long> {
-        unsigned long long n = 0;
-        if (i >= tokens.size()) return std::nullopt;
-        const std::string& t = tokens[i];
-        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), n);
-        if (ec == std::errc::result_out_of_range) return std::numeric_limits<unsigned long long>::max();
-        if (ec != std::errc() || end == t.data()) return std::nullopt;
-        return n;
-    };
-    const auto vertices = count(at), faces = count(at + 1);
-    if (!vertices || !faces) return;  // Assimp says what is wrong
-    std::error_code ec;
-    const auto bytes = static_cast<unsigned long long>(fs::file_size(file, ec));
-    const unsigned long long limit = std::numeric_limits<std::uint32_t>::max();
-    if (*vertices > limit || *faces > limit || *vertices * 2 * unsigned(dimensions) + *faces * 4 > bytes + 16)
-        throw InputError(format("{}: the OFF header claims {} vertices and {} faces, more than the file's {} bytes "
-                                "can hold",
-                                name, *vertices, *faces, bytes));
-}
-
 }  // namespace
 
 bool assimpReadsExtension(std::string_view extension) {
@@ -236,9 +194,6 @@ std::vector<MeshNode> loadAssimpNodes(const fs::path& file, const std::string& n
     // so that loadMeshNodes can give each node its own.
     const unsigned steps = aiProcess_ValidateDataStructure | aiProcess_RemoveComponent | aiProcess_Triangulate |
                            aiProcess_SortByPType | aiProcess_JoinIdenticalVertices;
-    std::string extension = file.extension().string();
-    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (extension == ".off") checkOffHeader(file, name);
     const aiScene* scene = nullptr;
     {
         const QuietStreams quiet;

@@ -1,5 +1,5 @@
 #pragma once
-// Mesh import through Assimp: FBX, Collada, STL, PLY, OFF, 3DS and the other formats it
+// Mesh import through Assimp: FBX, Collada, STL, PLY, 3DS and the other formats it
 // reads. Private to core (STYLE.md 2): no Assimp type leaves import_assimp.cpp.
 #include <dawnforge/core/import.hpp>
 

@@ -966,14 +966,16 @@ std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces) {
     return out;
 }
 
-FractureResult fractureChecked(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress) {
+FractureResult fractureChecked(const Mesh& input, const FractureSettings& settings, const ProgressFn& progress) {
     checkSettings(settings);
-    if (mesh.triangleCount() > kMaxFractureTriangles)
+    if (input.triangleCount() > kMaxFractureTriangles)
         throw InputError(format("the mesh has {} triangles; fracture takes at most {} (about 5 KB of memory each): "
                                 "simplify it first",
-                                mesh.triangleCount(), kMaxFractureTriangles));
-    checkInput(mesh);
+                                input.triangleCount(), kMaxFractureTriangles));
     FractureResult result;
+    Mesh mesh = input;  // a closed mesh turned inside out is unambiguous: turn it outward
+    result.notes = orientMesh(mesh);
+    checkInput(mesh);
     result.inputTriangles = mesh.triangleCount();
     result.inputVolume = volumeOf(mesh);
     const Grid grid = gridFor(computeBounds(mesh.positions));

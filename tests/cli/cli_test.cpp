@@ -307,7 +307,7 @@ TEST(CliFracture, RepairOptionFixesAnOpenMesh) {
     const RunResult r = test::runDawnforge(
         {"fracture", test::dataFile("open_box.obj").string(), "-o", (dir / "out").string(), "--pieces", "3", "--repair"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_NE(r.err.find("filled 1 holes"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("filled 1 hole"), std::string::npos) << r.err;
     EXPECT_TRUE(std::filesystem::exists(dir / "out" / "fracture.json"));
 }
 

@@ -393,13 +393,27 @@ TEST(ImportOff, QuadCubeAndBadHeaders) {
     expectSolid(m, 1.0, 1e-9);
     EXPECT_TRUE(m.normals.empty());
 
-    // Assimp would allocate (and zero) 2^32 - 1 vertices before reading a line.
+    // What CGAL's data has and Assimp 5.2 refused: comments after values, colours of three
+    // components; and a concave face (an L of six corners) that a fan would fold over.
+    test::writeText(dir / "coloured.off",
+                    "COFF # an L prism\n12 8 0\n"
+                    "0 0 0 0.9 0 0 #red\n2 0 0 0.9 0 0\n2 1 0 0 0 0.9#blue\n1 1 0 0 0 0.9\n1 2 0 0 0 0.9\n0 2 0 0 0 0.9\n\n"
+                    "0 0 1 0.9 0 0\n2 0 1 0.9 0 0\n2 1 1 0 0 0.9\n1 1 1 0 0 0.9\n1 2 1 0 0 0.9\n0 2 1 0 0 0.9\n"
+                    "6 0 5 4 3 2 1 0.9 0 0 # bottom\n6 6 7 8 9 10 11\n"
+                    "4 0 1 7 6\n4 1 2 8 7\n4 2 3 9 8\n4 3 4 10 9\n4 4 5 11 10\n4 5 0 6 11\n");
+    const Mesh l = loadMesh(dir / "coloured.off");
+    EXPECT_EQ(l.triangleCount(), 2u * 4u + 6u * 2u);
+    expectSolid(l, 3.0, 1e-9);
+
+    // A reader would allocate (and zero) 2^32 - 1 vertices before reading a line.
     test::writeText(dir / "huge.off", "OFF\n4294967295 1 0\n0 0 0\n3 0 0 0\n");
     expectInputError(dir / "huge.off", "the OFF header claims 4294967295 vertices");
     test::writeText(dir / "wraps.off", "OFF\n353535235358 6 0\n0 0 0\n");
     expectInputError(dir / "wraps.off", "more than the file's");
     test::writeText(dir / "text.off", "OFF\nthree vertices\n");
-    expectInputError(dir / "text.off", "not a readable mesh file");
+    expectInputError(dir / "text.off", "not a readable OFF file");
+    test::writeText(dir / "index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+    expectInputError(dir / "index.off", "not a readable OFF file");
 }
 
 TEST(ImportAssimp, BadFilesAreOneLineInputErrors) {

@@ -4,6 +4,8 @@
 // perspective they claim to be.
 #include <dawnforge/runtime/interior.hpp>
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -288,8 +290,9 @@ TEST(RoomStyle, DeterministicInRangeAndSpread) {
 
 // The shader mirrors the C++: the same picture constant and the same hash.
 TEST(InteriorShader, SharesConstantsWithTheCpuReference) {
-    const std::filesystem::path glsl = std::filesystem::path(__FILE__).parent_path() / "../../runtime/shaders/interior.glsl";
-    if (!std::filesystem::exists(glsl)) GTEST_SKIP() << "shader source not found at " << glsl;
+    // From the test data folder (absolute), not __FILE__, which ccache's base_dir makes relative.
+    const std::filesystem::path glsl = test::dataFile("../../runtime/shaders/interior.glsl");
+    ASSERT_TRUE(std::filesystem::exists(glsl)) << glsl;
     std::ifstream in(glsl);
     std::stringstream text;
     text << in.rdbuf();

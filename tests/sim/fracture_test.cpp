@@ -236,9 +236,22 @@ TEST(Fracture, RefusesMeshesThatBoundNoVolume) {
     Mesh overlapping = makeBox({0, 0, 0}, {1, 1, 1});
     appendMesh(overlapping, makeBox({0.5f, 0.5f, 0.5f}, {1.5f, 1.5f, 1.5f}));
     EXPECT_THROW(fractureMesh(overlapping, s), InputError);
-    Mesh inside = makeBox({0, 0, 0}, {1, 1, 1});
+}
+
+TEST(Fracture, TurnsInsideOutAndInconsistentMeshesOutwardAndSaysSo) {
+    FractureSettings s;
+    s.pieces = 4;
+    Mesh inside = makeBox({0, 0, 0}, {1, 2, 1});
     flipOrientation(inside);
-    EXPECT_THROW(fractureMesh(inside, s), InputError);
+    Mesh mixed = makeBox({0, 0, 0}, {1, 2, 1});
+    for (std::size_t t = 0; t < mixed.indices.size(); t += 6) std::swap(mixed.indices[t + 1], mixed.indices[t + 2]);
+    for (const Mesh& m : {inside, mixed}) {
+        const FractureResult r = fractureMesh(m, s);
+        EXPECT_FALSE(r.notes.empty());
+        EXPECT_NEAR(r.inputVolume, 2.0, 1e-9);
+        EXPECT_NEAR(totalVolume(r), 2.0, 1e-6);
+    }
+    EXPECT_TRUE(fractureMesh(makeBox({0, 0, 0}, {1, 2, 1}), s).notes.empty());
 }
 
 TEST(Fracture, RefusesMoreTrianglesThanFitInMemoryBeforeAnyWork) {

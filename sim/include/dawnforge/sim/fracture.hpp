@@ -88,11 +88,12 @@ struct FractureResult {
     double inputVolume = 0.0;
     std::size_t inputTriangles = 0;
     std::size_t merged = 0;                     // pieces merged away by minVolume
+    std::vector<std::string> notes;             // what was done to the input first (turned outward), one sentence each
 };
 
-// Fractures `mesh`, which must be closed, manifold, outward-oriented and free of
-// self-intersections (throws InputError saying what is wrong otherwise, or when a piece
-// cannot be computed). Deterministic: the same mesh and settings give the same result
+// Fractures `mesh`, which must be closed, manifold and free of self-intersections (throws
+// InputError saying what is wrong otherwise, or when a piece cannot be computed). A mesh
+// inside out or inconsistently oriented is oriented first (orientMesh()), said in `notes`. Deterministic: the same mesh and settings give the same result
 // whatever the number of threads.
 FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, const ProgressFn& progress = noProgress);
 
