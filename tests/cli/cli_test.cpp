@@ -9,6 +9,7 @@
 #include <dawnforge/procgen/city.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/fracture_parts.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
 #include <gtest/gtest.h>
@@ -72,6 +73,7 @@ std::string shown(double v) {  // as CLI11 prints a default
 
 TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
     const sim::FractureSettings f;
+    const sim::PartsFractureSettings fp;
     const sim::SimulationSettings s;
     const sim::Projectile p;
     const sim::Explosion e;
@@ -86,7 +88,9 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
           {"--levels", shown(f.levels)}, {"--level-pieces", shown(f.levelPieces)}, {"--density", shown(f.density)},
           {"--interior-material", shown(f.interiorMaterial)}, {"--uv-scale", shown(f.interiorUvScale)},
           {"--min-volume", shown(f.minVolume)}, {"--roughness", shown(f.roughness)},
-          {"--rough-scale", shown(f.roughScale)}, {"--voxel", shown(f.voxelSize)}, {"--threads", "0"}}},
+          {"--rough-scale", shown(f.roughScale)}, {"--voxel", shown(f.voxelSize)}, {"--shard-size", shown(fp.shardSize)},
+          {"--splinter-width", shown(fp.splinterWidth)}, {"--splinter-length", shown(fp.splinterLength)},
+          {"--threads", "0"}}},
         {"simulate",
          {{"--frames", shown(s.frames)}, {"--fps", shown(s.fps)}, {"--substeps", shown(s.substeps)},
           {"--iterations", shown(s.solverIterations)}, {"--seed", shown(double(s.seed))},
@@ -104,7 +108,7 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
           {"--tile-size", shown(c.tileSize)}, {"--threads", "0"}}},
         {"render", {{"--size", imageSize}, {"--repeat", "5"}}},
         {"view", {{"--size", imageSize}, {"--frames", "0"}}},
-        {"demo", {{"--floors", "8"}, {"--threads", "0"}}},
+        {"demo", {{"--threads", "0"}}},
         {"inspect", {}},
     };
     for (const auto& [command, options] : expected) EXPECT_EQ(helpDefaults(command), options) << command;
@@ -220,9 +224,8 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
 
 TEST(Cli, DemoBadOptionsExit2) {
     TempDir dir;
-    expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "0"}, "--floors");
-    expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "-3"}, "--floors");
-    expectBadInput({"demo", "-o", (dir / "d").string(), "--floors", "many"}, "--floors");
+    expectBadInput({"demo", "-o", (dir / "d").string(), "--building", "-3"}, "--building");
+    expectBadInput({"demo", "-o", (dir / "d").string(), "--building", "many"}, "--building");
     test::writeText(dir / "file", "x");
     expectBadInput({"demo", "-o", (dir / "file").string()}, "file");
     EXPECT_EQ(dir.entries(), std::vector<std::string>{"file"});
@@ -453,15 +456,15 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 
-TEST(CliDemo, BakesTheTowerDestruction) {
+TEST(CliDemo, BakesTheDestructionOfABuildingOfItsDistrict) {
     TempDir dir;
-    const RunResult r = test::runDawnforge({"--quiet", "demo", "-o", dir.path().string(), "--floors", "4"});
+    const RunResult r = test::runDawnforge({"--quiet", "demo", "-o", dir.path().string()});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const nlohmann::json sim = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
     EXPECT_GT(sim["glue"]["broken"].get<int>(), 0);
     for (const char* preset : {"native", "unreal", "unity"})
         for (const char* suffix : {"_pos.exr", "_rot.exr", "_mesh.glb", "_data.json"})
-            EXPECT_TRUE(std::filesystem::exists(dir / "vat" / (std::string("tower_") + preset + suffix))) << preset << suffix;
+            EXPECT_TRUE(std::filesystem::exists(dir / "vat" / (std::string("building_") + preset + suffix))) << preset << suffix;
 }
 
 TEST(CliCity, WritesAValidGlbAndAReportThatAgree) {
