@@ -5,17 +5,25 @@
 
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/format.hpp>
-#include <dawnforge/core/primitives.hpp>
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/context.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/scene_file.hpp>
+#include <dawnforge/procgen/city_building.hpp>
+#include <dawnforge/procgen/plan.hpp>
 #include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/fracture_parts.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <optional>
 
 namespace dawnforge::cli {
 
@@ -23,11 +31,11 @@ namespace {
 
 struct DemoOptions {
     std::filesystem::path outputDir;
-    int floors = 8;
-    bake::BakeSettings bake;  // the district's baked lighting
+    std::optional<int> building;  // the building to knock down; default the tallest near the water
+    bake::BakeSettings bake;      // the district's baked lighting
 };
 
-constexpr double kStorey = 3.2;  // storey height of the tower (m)
+constexpr double kStartTime = 1.0;  // scene time at which the building's destruction takes over
 
 // A small coastal district on the default recipe: a third of it sea.
 procgen::CityPlan demoCity(const DemoOptions& options, const CommonOptions& common) {
@@ -38,29 +46,64 @@ procgen::CityPlan demoCity(const DemoOptions& options, const CommonOptions& comm
     return writeCityFolder(city, options.outputDir / "city", common);
 }
 
-// The tower in 40 Voronoi pieces, smaller near a corner at mid-height.
-sim::FractureResult fractureTower(const DemoOptions& options) {
-    sim::FractureSettings fracture;
-    fracture.pieces = 40;
-    fracture.impact = glm::dvec3(6.0, 0.5 * kStorey * options.floors, 5.0);
-    fracture.impactRadius = 6.0;
-    fracture.density = 300.0;  // a building is mostly air: about 300 kg/m^3 on average
-    const sim::FractureResult pieces = sim::fractureMesh(makeTower(options.floors, float(kStorey), 12.0f, 10.0f), fracture);
-    writeFractureFolder(pieces, fracture, "built-in tower", options.outputDir / "fracture");
-    std::printf("wrote %s: the tower in %zu pieces with %zu bonds\n",
-                (options.outputDir / "fracture" / "fragments.glb").string().c_str(), pieces.pieces.size(),
-                pieces.bonds.size());
+// The building on the quay: of the buildings of at least four storeys (three if none has
+// four), the one whose footprint's centre is nearest the coastline.
+int quayBuilding(const std::filesystem::path& cityDir, const procgen::CityPlan& plan) {
+    const nlohmann::json city = nlohmann::json::parse(readTextFile(cityDir / "city.json"));
+    int best = -1;
+    double bestScore = std::numeric_limits<double>::max();
+    for (const nlohmann::json& b : city["buildings"]) {
+        glm::dvec2 centre(0.0);
+        for (const nlohmann::json& p : b["footprint"]) centre += glm::dvec2(p[0].get<double>(), p[1].get<double>());
+        centre /= double(b["footprint"].size());
+        const int floors = b["floors"].get<int>();
+        const double score = std::abs(centre.y - procgen::coastY(plan, centre.x)) + (floors >= 4 ? 0.0 : floors >= 3 ? 1e4 : 1e6);
+        if (score < bestScore) bestScore = score, best = b["id"].get<int>();
+    }
+    if (best < 0) throw InputError("demo: the district has no building to knock down");
+    return best;
+}
+
+// Where the ball hits: mid-height on the building's side facing the sea (+z, plan south).
+glm::dvec3 impactPoint(const procgen::CityBuilding& building) {
+    const Bounds& b = building.bounds;
+    return {0.5 * (b.min.x + b.max.x), b.min.y + 0.45 * (b.max.y - b.min.y), b.max.z};
+}
+
+// The building, part by part by material, smaller pieces around the impact.
+sim::FractureResult fractureBuilding(const DemoOptions& options, const procgen::CityBuilding& building) {
+    std::vector<sim::FracturePart> parts;
+    for (const procgen::CityBuildingPart& part : building.parts)
+        parts.push_back({procgen::partKindName(part.kind), part.material, part.mesh});
+    sim::PartsFractureSettings fracture;
+    fracture.common.pieces = 120;
+    fracture.shardSize = 0.8;  // about three shards a pane: the whole district is seen
+    fracture.common.impact = impactPoint(building);
+    fracture.common.impactRadius = 5.0;
+    const sim::FractureResult pieces = sim::fractureParts(parts, fracture);
+    const std::filesystem::path cityDir = options.outputDir / "city";
+    writeFractureFolder(pieces, fracture.common, cityDir.string(), options.outputDir / "fracture", building.id);
+    std::printf("wrote %s: %s in %zu pieces with %zu bonds\n",
+                (options.outputDir / "fracture" / "fragments.glb").string().c_str(), building.name.c_str(),
+                pieces.pieces.size(), pieces.bonds.size());
     return pieces;
 }
 
-// Knock it down: a 20 t ball at 40 m/s into the +x wall at mid-height, 0.2 s in; 8 s at 30 fps.
-sim::SimulationResult simulateTower(const DemoOptions& options, const sim::FractureResult& pieces,
-                                    std::span<const sim::RigidPiece> rigid, const CommonOptions& common) {
+// Knock it down: a 20 t ball at 40 m/s from the sea into its wall, 0.2 s in; 8 s at 30 fps,
+// among its neighbours and on the city's ground.
+sim::SimulationResult simulateBuilding(const DemoOptions& options, const procgen::CityBuilding& building,
+                                       const sim::FractureResult& pieces, std::span<const sim::RigidPiece> rigid,
+                                       const CommonOptions& common) {
     sim::SimulationSettings sim;
     sim.frames = 240;
-    sim.strength = 3e5;  // weak masonry: it stands on its own (tested) and falls when hit
+    double lowest = building.bounds.min.y;
+    for (const Mesh& ground : building.ground) lowest = std::min(lowest, computeBounds(ground.positions).min.y);
+    sim.colliders = building.ground;
+    sim.colliders.insert(sim.colliders.end(), building.neighbours.begin(), building.neighbours.end());
+    sim.groundHeight = lowest - 0.05;
     sim::Projectile ball;
-    ball.target = glm::dvec3(6.0, 0.5 * kStorey * options.floors, 2.0);
+    ball.target = impactPoint(building);
+    ball.direction = glm::dvec3(0.0, 0.0, -1.0);
     ball.radius = 1.5;
     sim.projectile = ball;
     sim::SimulationResult motion;
@@ -75,8 +118,7 @@ sim::SimulationResult simulateTower(const DemoOptions& options, const sim::Fract
 }
 
 // Bake it for our runtime and for the Labs shaders in Unreal and Unity.
-void bakeTowerVats(const DemoOptions& options, std::span<const sim::RigidPiece> rigid,
-                   const sim::SimulationResult& motion) {
+void bakeVats(const DemoOptions& options, std::span<const sim::RigidPiece> rigid, const sim::SimulationResult& motion) {
     std::vector<Mesh> meshes;
     for (const sim::RigidPiece& p : rigid) meshes.push_back(p.mesh);
     const exporters::VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
@@ -84,35 +126,41 @@ void bakeTowerVats(const DemoOptions& options, std::span<const sim::RigidPiece> 
          {exporters::VatPreset::Native, exporters::VatPreset::Unreal, exporters::VatPreset::Unity}) {
         exporters::VatSettings vat;
         vat.preset = preset;
-        vat.name = "tower_" + std::string(exporters::vatPresetName(preset));
+        vat.name = "building_" + std::string(exporters::vatPresetName(preset));
         exporters::writeVat(exporters::encodeVat(animation, vat), vat, options.outputDir / "vat");
     }
-    std::printf("wrote %s: tower_{native,unreal,unity}_{pos.exr,rot.exr,mesh.glb,data.json}\n",
+    std::printf("wrote %s: building_{native,unreal,unity}_{pos.exr,rot.exr,mesh.glb,data.json}\n",
                 (options.outputDir / "vat").string().c_str());
 }
 
-// The district, the tower standing on the middle of the quay (the 15 m strip between the
-// coastline and the water) at x = 160 m and breaking, the sea, cameras, at half past five
-// in the afternoon.
-runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::CityPlan& plan) {
+// The district with the building replaced by its destruction from kStartTime on (the VAT is
+// in world space: no offset), the sea, cameras, at half past five in the afternoon, 2.2 s
+// after the swap: the building is coming down.
+runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::CityBuilding& building) {
     runtime::SceneFile scene;
     scene.cityDir = dir / "city";
     scene.timeOfDay = 17.5;
-    scene.time = 2.4;  // the ball hits at 0.2 s: the tower is coming down
+    scene.time = kStartTime + 2.2;
     scene.fps = 30.0;
     scene.ocean = runtime::OceanSettings{};
-    const double x = 160.0, z = -(procgen::coastY(plan, x) - 7.5);  // plan y north → glTF z = −y
-    scene.destruction.push_back({dir / "vat", "tower_native", glm::dvec3(x, 0.0, z), 0.0, 0.0});
-    scene.cameras.push_back({"harbour", glm::dvec3(x + 75.0, 22.0, z + 70.0), glm::dvec3(x - 10.0, 12.0, z - 25.0), 55.0});
+    runtime::DestructionInstance destruction;
+    destruction.vatDir = dir / "vat";
+    destruction.name = "building_native";
+    destruction.startTime = kStartTime;
+    destruction.replaces = building.id;
+    scene.destruction.push_back(destruction);
+    const glm::dvec3 c = 0.5 * (building.bounds.min + building.bounds.max);
+    const double x = c.x, z = building.bounds.max.z;
+    scene.cameras.push_back({"harbour", glm::dvec3(x + 45.0, 20.0, z + 60.0), glm::dvec3(x - 5.0, 8.0, c.z), 55.0});
     scene.cameras.push_back({"overview", glm::dvec3(x + 200.0, 190.0, z + 160.0), glm::dvec3(x, 0.0, z - 90.0), 50.0});
-    scene.cameras.push_back({"street", glm::dvec3(x - 40.0, 2.0, z + 2.0), glm::dvec3(x, 12.0, z), 65.0});
+    scene.cameras.push_back({"street", glm::dvec3(x - 40.0, 2.0, z + 6.0), glm::dvec3(x, 10.0, c.z), 65.0});
     return scene;
 }
 
 // Writes scene.json and a picture of it from its first camera.
-void renderDemo(const DemoOptions& options, const procgen::CityPlan& plan) {
+void renderDemo(const DemoOptions& options, const procgen::CityBuilding& building) {
     const auto sceneFile = options.outputDir / "scene.json";
-    writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir, plan), options.outputDir));
+    writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir, building), options.outputDir));
     std::printf("wrote %s\n", sceneFile.string().c_str());
     const runtime::SceneFile view = runtime::loadSceneFile(sceneFile);
     const auto context = runtime::GlContext::headless();
@@ -135,12 +183,15 @@ void renderDemo(const DemoOptions& options, const procgen::CityPlan& plan) {
 int runDemo(const DemoOptions& options, const CommonOptions& common) {
     ensureOutputDirectory(options.outputDir);
     const procgen::CityPlan plan = demoCity(options, common);
-    bakeCityFolder(options.outputDir / "city", options.bake, common);
-    const sim::FractureResult pieces = fractureTower(options);
+    const std::filesystem::path cityDir = options.outputDir / "city";
+    bakeCityFolder(cityDir, options.bake, common);
+    const int id = options.building ? *options.building : quayBuilding(cityDir, plan);
+    const procgen::CityBuilding building = procgen::loadCityBuilding(cityDir, id);
+    const sim::FractureResult pieces = fractureBuilding(options, building);
     const std::vector<sim::RigidPiece> rigid = sim::rigidPieces(pieces);
-    const sim::SimulationResult motion = simulateTower(options, pieces, rigid, common);
-    bakeTowerVats(options, rigid, motion);
-    renderDemo(options, plan);
+    const sim::SimulationResult motion = simulateBuilding(options, building, pieces, rigid, common);
+    bakeVats(options, rigid, motion);
+    renderDemo(options, building);
     return 0;
 }
 
@@ -150,7 +201,9 @@ Command addDemo(CLI::App& app, CommonOptions& common) {
     auto o = std::make_shared<DemoOptions>();
     CLI::App* cmd = app.add_subcommand("demo", "Run the whole pipeline on built-in defaults");
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
-    cmd->add_option("--floors", o->floors, "Floors of the demo tower")->check(CLI::Range(1, 200))->capture_default_str();
+    cmd->add_option("--building", o->building,
+                    "The building of the district to knock down (its id); default the tallest one nearest the water")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--bake-texel", o->bake.texel, "Lightmap texel of the district's bake (m; see dawnforge bake --texel)")
         ->check(CLI::Range(0.01, 10.0))->capture_default_str();
     cmd->add_option("--bake-interior-texel", o->bake.interiorTexel, "Lightmap texel in rooms (m)")

@@ -39,10 +39,10 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
 }
 
 void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
-                         const std::string& input, const std::filesystem::path& dir) {
+                         const std::string& input, const std::filesystem::path& dir, int building) {
     ensureOutputDirectory(dir);
     exporters::writeGlb(sim::fractureScene(result), dir / "fragments.glb");
-    writeFileAtomically(dir / "fracture.json", sim::fractureJson(result, settings, input));
+    writeFileAtomically(dir / "fracture.json", sim::fractureJson(result, settings, input, building));
 }
 
 void writeSimulationFolder(const sim::SimulationResult& result, const sim::SimulationSettings& settings,

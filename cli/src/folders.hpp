@@ -22,9 +22,10 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
 // Bakes CITY_DIR/bake/ with progress and a summary; a budget error names the options that fix it.
 void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettings& settings, const CommonOptions& common);
 
-// DIR/fragments.glb and DIR/fracture.json; `input` names the mesh in fracture.json.
+// DIR/fragments.glb and DIR/fracture.json; `input` names the mesh in fracture.json (the city
+// folder when `building` >= 0 names the building).
 void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
-                         const std::string& input, const std::filesystem::path& dir);
+                         const std::string& input, const std::filesystem::path& dir, int building = -1);
 
 // DIR/sim.json, transforms.bin, turns.bin and a copy of FRACTURE_DIR/fragments.glb, so that
 // the folder stands on its own.

@@ -5,8 +5,11 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/read_file.hpp>
+#include <dawnforge/core/materials.hpp>
 #include <dawnforge/core/validate.hpp>
+#include <dawnforge/procgen/city_building.hpp>
 #include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/fracture_parts.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -28,7 +31,32 @@ struct FractureOptions {
     bool force = false;
     bool repair = false;
     sim::FractureSettings settings;
+    // A building of a city folder (FILE is then the folder): broken part by part.
+    std::optional<int> building;
+    sim::PartsFractureSettings parts;       // its `common` is `settings` when run
+    std::vector<std::string> strengths;     // "MATERIAL=PA"
+    CLI::App* app = nullptr;                // to tell which options were given
 };
+
+// "MATERIAL=PA" (a material name of core/materials.hpp, glue strength in pascals) into the table.
+void applyStrengths(const std::vector<std::string>& specs, std::array<sim::MaterialBreak, kMaterialCount>& table) {
+    for (const std::string& spec : specs) {
+        const std::size_t eq = spec.find('=');
+        const std::string name = spec.substr(0, eq);
+        int id = -1;
+        for (int m = 0; m < kMaterialCount; ++m)
+            if (name == materialName(std::uint8_t(m))) id = m;
+        if (eq == std::string::npos || id < 0)
+            throw InputError(format("--strength {}: expected MATERIAL=PA with MATERIAL one of asphalt, paving, brick, "
+                                    "concrete, plaster, glass, metal, trim, roof_tiles, roof_flat, wood, interior_wall, "
+                                    "floor, ground, sand, rubble", spec));
+        char* end = nullptr;
+        const double pa = std::strtod(spec.c_str() + eq + 1, &end);
+        if (end == spec.c_str() + eq + 1 || *end != '\0' || !std::isfinite(pa) || pa < 0.0)
+            throw InputError(format("--strength {}: the strength must be a number of pascals, not negative", spec));
+        table[std::size_t(id)].strength = pa;
+    }
+}
 
 // Seed points: one "x y z" per line; blank lines and lines starting with # are skipped.
 std::vector<glm::dvec3> readPoints(const std::filesystem::path& file) {
@@ -73,7 +101,60 @@ void printSummary(const FractureOptions& options, const sim::FractureResult& res
                 (options.outputDir / "fracture.json").string().c_str());
 }
 
+// Options that mean nothing for a building's parts are refused rather than ignored.
+void checkBuildingOptions(const FractureOptions& options) {
+    for (const char* name : {"--points", "--density", "--roughness", "--rough-scale", "--voxel", "--repair"})
+        if (options.app->count(name) > 0)
+            throw InputError(format("{} does not apply with --building (a building's parts are closed, weigh what their "
+                                    "materials weigh and are cut with planar faces)", name));
+}
+
+void printBuildingSummary(const FractureOptions& options, const sim::FractureResult& result, double seconds) {
+    double total = 0.0;
+    for (const sim::FracturePiece& p : result.pieces) total += p.mass.volume;
+    std::printf("fractured building %d of %s (%zu parts) into %zu pieces with %zu bonds in %.2f s\n", *options.building,
+                options.file.string().c_str(), result.parts.size(), result.pieces.size(), result.bonds.size(), seconds);
+    std::array<std::size_t, kMaterialCount> perMaterial{};
+    for (const sim::FracturePiece& p : result.pieces) ++perMaterial[p.material];
+    std::printf("  pieces per material:");
+    for (int m = 0; m < kMaterialCount; ++m)
+        if (perMaterial[std::size_t(m)]) std::printf(" %s %zu", materialName(std::uint8_t(m)), perMaterial[std::size_t(m)]);
+    std::printf("\n  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)\n", result.inputVolume, total,
+                std::abs(total - result.inputVolume) / result.inputVolume);
+    std::printf("  wrote %s and %s\n", (options.outputDir / "fragments.glb").string().c_str(),
+                (options.outputDir / "fracture.json").string().c_str());
+}
+
+int runBuildingFracture(FractureOptions& options, const CommonOptions& common) {
+    const auto start = std::chrono::steady_clock::now();
+    checkBuildingOptions(options);
+    options.parts.common = options.settings;
+    applyStrengths(options.strengths, options.parts.materials);
+    procgen::CityBuilding building = procgen::loadCityBuilding(options.file, *options.building);
+    std::vector<sim::FracturePart> parts;
+    for (procgen::CityBuildingPart& part : building.parts)
+        parts.push_back({procgen::partKindName(part.kind), part.material, std::move(part.mesh)});
+    sim::FractureResult result;
+    {
+        StderrProgress progress = progressFor("fracture", common);
+        try {
+            result = sim::fractureParts(parts, options.parts, progress.callback());
+        } catch (const InputError& e) {
+            throw InputError(format("{}: building {}: {}", options.file.string(), *options.building, e.what()));
+        }
+    }
+    if (result.pieces.size() > std::size_t(kMaxPiecesWithoutForce) && !options.force)
+        throw InputError(format("{} pieces is above the limit of {}; add --force if you mean it", result.pieces.size(),
+                                kMaxPiecesWithoutForce));
+    writeFractureFolder(result, options.settings, options.file.string(), options.outputDir, *options.building);
+    printBuildingSummary(options, result, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return 0;
+}
+
 int runFracture(FractureOptions& options, const CommonOptions& common) {
+    if (options.building) return runBuildingFracture(options, common);
+    for (const char* name : {"--shard-size", "--splinter-width", "--splinter-length", "--strength"})
+        if (options.app->count(name) > 0) throw InputError(format("{} needs --building (it is for a city's building)", name));
     const auto start = std::chrono::steady_clock::now();
     sim::FractureSettings& settings = options.settings;
     if (!options.pointsFile.empty()) settings.points = readPoints(options.pointsFile);
@@ -134,16 +215,34 @@ void addPieceOptions(CLI::App& cmd, sim::FractureSettings& s) {
         ->check(CLI::NonNegativeNumber)->capture_default_str();
 }
 
+void addBuildingOptions(CLI::App& cmd, FractureOptions& o) {
+    sim::PartsFractureSettings& p = o.parts;
+    cmd.add_option("--building", o.building,
+                   "Fracture this building of the city folder FILE (its id in city.json), part by part by material")
+        ->check(CLI::NonNegativeNumber);
+    cmd.add_option("--shard-size", p.shardSize, "With --building: glass breaks into shards about this wide (m)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--splinter-width", p.splinterWidth, "With --building: wood splinters about this wide (m)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--splinter-length", p.splinterLength, "With --building: and this long along the grain (m)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--strength", o.strengths,
+                   "With --building: MATERIAL=PA, the glue strength of a material's bonds (repeatable; a bond takes "
+                   "the weaker of its two pieces'; defaults: concrete 1e6, brick 5e5, wood 3e5, plaster 2e5, glass 5e4)");
+}
+
 }  // namespace
 
 Command addFracture(CLI::App& app, CommonOptions& common) {
     auto options = std::make_shared<FractureOptions>();
     CLI::App* cmd =
         app.add_subcommand("fracture", "Fracture a closed mesh into Voronoi pieces: DIR/fragments.glb, DIR/fracture.json");
-    cmd->add_option("FILE", options->file, "Closed mesh: glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ... (metres, +Y up after import)")->required();
+    options->app = cmd;
+    cmd->add_option("FILE", options->file, "Closed mesh (or, with --building, a city folder): glTF/GLB, OBJ, FBX, STL, PLY, OFF, DAE, 3DS, ... (metres, +Y up after import)")->required();
     cmd->add_option("-o,--output", options->outputDir, "Output folder")->required();
     addSeedOptions(*cmd, *options);
     addPieceOptions(*cmd, options->settings);
+    addBuildingOptions(*cmd, *options);
     cmd->add_flag("--force", options->force, "Allow more than 20,000 pieces");
     cmd->add_flag("--repair", options->repair, "Repair an open or inconsistent mesh first (and say so on stderr)");
     addThreadsOption(*cmd, common);

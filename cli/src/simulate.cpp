@@ -1,7 +1,10 @@
 #include "commands.hpp"
 #include "folders.hpp"
 
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/procgen/city_building.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 #include <dawnforge/sim/rigidbody_io.hpp>
 
@@ -21,6 +24,8 @@ struct SimulateOptions {
     std::filesystem::path outputDir;
     std::vector<std::filesystem::path> colliders;
     bool noGround = false;
+    std::filesystem::path city;  // a building's city folder; empty: the one fracture.json names
+    bool noCity = false;
     std::optional<glm::dvec3> projectileTarget, projectileDirection, explosionCenter;
     sim::Projectile projectile;
     sim::Explosion explosion;
@@ -43,10 +48,38 @@ sim::SimulationSettings settingsOf(const SimulateOptions& o) {
     return s;
 }
 
+// A city building's fracture falls into its city: the other buildings' LOD1 shells near it
+// and the ground (streets, kerbs, the sea floor) become static colliders, the building stands
+// on a support at its base over its footprint's bounds, and the ground plane goes under the
+// lowest ground point as a backstop. Returns the neighbours added.
+std::size_t addCityColliders(const SimulateOptions& options, const sim::FractureFolder& fracture,
+                             sim::SimulationSettings& settings) {
+    if (fracture.building < 0 || options.noCity) return 0;
+    const std::filesystem::path city = options.city.empty() ? std::filesystem::path(fracture.input) : options.city;
+    if (!std::filesystem::is_directory(city))
+        throw InputError(format("{}: the fractured building's city folder {} is not there; give it with --city DIR, or "
+                                "--no-city", (options.fractureDir / "fracture.json").string(), city.string()));
+    procgen::CityBuilding building = procgen::loadCityBuilding(city, fracture.building);
+    double lowest = building.bounds.min.y;
+    for (Mesh& ground : building.ground) {
+        lowest = std::min(lowest, computeBounds(ground.positions).min.y);
+        settings.colliders.push_back(std::move(ground));
+    }
+    for (Mesh& shell : building.neighbours) settings.colliders.push_back(std::move(shell));
+    if (!options.settings.groundHeight) settings.groundHeight = lowest - 0.05;
+    settings.support = sim::Support{building.bounds.min.y, {building.bounds.min.x, building.bounds.min.z},
+                                    {building.bounds.max.x, building.bounds.max.z}};
+    return building.neighbours.size();
+}
+
 int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
-    const sim::SimulationSettings settings = settingsOf(options);
+    sim::SimulationSettings settings = settingsOf(options);
     const sim::FractureFolder fracture = sim::loadFracture(options.fractureDir);
+    if (fracture.building < 0 && (!options.city.empty() || options.noCity))
+        throw InputError(format("{}: --city and --no-city are for a building's fracture (fracture --building)",
+                                options.fractureDir.string()));
+    const std::size_t neighbours = addCityColliders(options, fracture, settings);
     sim::SimulationResult result;
     {
         StderrProgress progress = progressFor("simulate", common);
@@ -58,6 +91,8 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     std::printf("simulated %zu pieces for %d frames at %g fps (%d substeps) in %.2f s\n", result.pieces,
                 result.frames, result.fps, settings.substeps, seconds);
     std::printf("  %zu of %zu bonds broke; fastest piece %.2f m/s\n", result.brokenBonds, result.bonds, result.maxSpeed);
+    if (fracture.building >= 0 && !options.noCity)
+        std::printf("  in its city: the ground and %zu neighbouring buildings as colliders\n", neighbours);
     std::printf("  wrote %s, transforms.bin, turns.bin and a copy of fragments.glb\n",
                 (options.outputDir / "sim.json").string().c_str());
     return 0;
@@ -116,6 +151,10 @@ Command addSimulate(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--ground-height", o->settings.groundHeight,
                     "Ground plane height (m); default the lowest point of the pieces");
     cmd->add_option("--collider", o->colliders, "Static collider mesh (any format inspect reads), world space; repeatable");
+    cmd->add_option("--city", o->city,
+                    "A building's fracture: the city folder it stands in (default: the one fracture.json names); its "
+                    "ground and neighbouring buildings become colliders");
+    cmd->add_flag("--no-city", o->noCity, "A building's fracture: simulate it without its city around it");
     addThreadsOption(*cmd, common);
     return {cmd, [o, &common] { return runSimulate(*o, common); }};
 }

@@ -1,6 +1,6 @@
 // Mesh import: OBJ through tinyobjloader, glTF 2.0 / GLB through tinygltf (they keep what
-// dawnforge writes: material IDs in COLOR_0, piece IDs, node names), every other format
-// through Assimp (import_assimp.cpp).
+// dawnforge writes: material IDs in COLOR_0, piece IDs, node names), OFF through CGAL's
+// reader (import_off.cpp), every other format through Assimp (import_assimp.cpp).
 #include "import_assimp.hpp"
 #include "import_off.hpp"
 

@@ -7,7 +7,8 @@
 // the triangles along their intersections, and the faces kept are those between a region
 // of winding number 0 and one of winding number 1 (the union's boundary), the winding
 // numbers counted by ray crossings with exact predicates.
-// This is the only translation unit of core that includes CGAL (it compiles slowly).
+// Besides import_off.cpp (CGAL's OFF reader), this is the only translation unit of core that
+// includes CGAL (it compiles slowly).
 //
 // CGAL's assertions stay on here, Release or not: with NDEBUG they compile to nothing, and
 // a precondition that bad input breaks (inside autorefinement, say) then ends in a
@@ -31,6 +32,7 @@
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
@@ -211,10 +213,12 @@ Topology analyse(const std::vector<Polygon>& faces, std::size_t pointCount) {
 
 // A soup that is manifold and consistently oriented, as a Surface_mesh whose face i is
 // polygon i; points that no polygon uses are left out (CGAL's algorithms expect none).
-// Throws InputError(`failure`) when the soup is not such a soup.
-// Built face by face rather than with polygon_soup_to_polygon_mesh(), whose precondition
-// check (on, with CGAL's assertions) costs as much as orienting the soup again.
+// Throws InputError(`failure`) when the soup is not such a soup (checked first: adding
+// the faces of one that is not can crash Surface_mesh, as orient_polygon_soup() leaves
+// some soups, e.g. fracture pieces that touch). Built face by face rather than with
+// polygon_soup_to_polygon_mesh(), which would check the soup a second time.
 SurfaceMesh toSurfaceMesh(const Soup& soup, const char* failure = "the triangles do not form a manifold surface") {
+    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) throw InputError(failure);
     SurfaceMesh sm;
     std::vector<Vertex> vertex(soup.points.size());
     sm.reserve(static_cast<SurfaceMesh::size_type>(soup.points.size()),
@@ -927,9 +931,8 @@ std::string whatIsWrong(const MeshReport& r) {
     return out;
 }
 
-// The repair proper; `stage` says what it is doing, for the message should CGAL fail.
-Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
-    stage = "reading the mesh";
+// The mesh as a soup of its triangles; the volume it had, if it bounded one.
+Soup startRepair(const Mesh& mesh, RepairReport& rep) {
     {
         const Soup welded = weldedSoup(mesh, nullptr);
         const Topology topo = analyse(welded.polygons, welded.points.size());
@@ -943,8 +946,11 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
         soup.polygons.push_back({mesh.indices[3 * t], mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]});
     if (const Flatness f = flatness(soup.points); f != Flatness::Solid) throw InputError(flatMessage(f));
+    return soup;
+}
 
-    stage = "cleaning the triangle soup";
+// Duplicate points and degenerate, duplicate and coincident opposite triangles go.
+void cleanSoup(Soup& soup, RepairReport& rep) {
     const std::size_t pointsBefore = soup.points.size(), polygonsBefore = soup.polygons.size();
     PMP::repair_polygon_soup(soup.points, soup.polygons, CGAL::parameters::require_same_orientation(true));
     if (soup.points.size() != pointsBefore)
@@ -961,7 +967,11 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     if (soup.polygons.empty())
         throw InputError("the mesh has no volume: no triangles are left after removing degenerate and coincident ones");
 
-    stage = "orienting the triangles";
+}
+
+// The soup oriented consistently as a mesh; "f:dawnforge_intent" says which way each face
+// was meant to face (-1: CGAL reversed it).
+SurfaceMesh orientSoup(Soup& soup, RepairReport& rep) {
     std::vector<bool> reversed(soup.polygons.size(), false);
     const std::size_t beforeOrient = soup.points.size();
     ReversalRecorder recorder;
@@ -974,7 +984,13 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     auto intent = sm.add_property_map<Face, std::int8_t>("f:dawnforge_intent", 0).first;
     for (std::size_t i = 0; i < soup.polygons.size(); ++i)
         intent[Face(static_cast<SurfaceMesh::size_type>(i))] = reversed[i] ? -1 : 1;
+    return sm;
+}
 
+// Borders stitched, pinches split, degenerate and flat parts removed, holes filled, the
+// shells oriented as the faces were meant to face.
+void closeSurface(SurfaceMesh& sm, RepairReport& rep, const char*& stage) {
+    auto intent = sm.property_map<Face, std::int8_t>("f:dawnforge_intent").first;
     stage = "stitching borders";
     if (const std::size_t stitched = PMP::stitch_borders(sm))
         rep.actions.push_back(
@@ -1005,16 +1021,25 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
     stage = "orienting the shells";
     orientAsIntended(sm, intent);
     sm.remove_property_map(intent);
+}
 
-    // Resolve the self-intersections: split the triangles along them (autorefinement), keep
-    // the faces that bound the solid, merge the two sides of each cut. The result is
-    // rounded to float, as it will be stored; should that make triangles cross again,
-    // resolve again. Without self-intersections, shells nested inside the solid still go.
-    stage = "resolving self-intersections";
+struct Resolution {
+    bool intersecting = false;  // after the last round (false when it succeeded)
+    bool resolved = false;      // autorefinement ran
+    std::size_t removed = 0;    // faces of shells removed as enclosing nothing more
+};
+
+// Resolve the self-intersections: split the triangles along them (autorefinement), keep
+// the faces that bound the solid, merge the two sides of each cut. The result is
+// rounded to float, as it will be stored; should that make triangles cross again,
+// resolve again. Without self-intersections, shells nested inside the solid still go.
+Resolution resolveSelfIntersections(SurfaceMesh& sm, RepairReport& rep) {
     roundToFloat(sm);  // collapsing degenerate triangles and filling holes may place points off the grid
-    bool intersecting = PMP::does_self_intersect(sm);
-    bool resolved = false;
-    std::size_t removed = 0;
+    Resolution res;
+    bool& intersecting = res.intersecting;
+    bool& resolved = res.resolved;
+    std::size_t& removed = res.removed;
+    intersecting = PMP::does_self_intersect(sm);
     if (intersecting || countShells(sm) > 1) {
         const std::size_t facesBefore = sm.number_of_faces();
         std::size_t nudged = 0, cracks = 0, parted = 0;
@@ -1077,11 +1102,16 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
             rep.actions.push_back(format("closed {} left along the cuts", counted(cracks, "crack", "cracks")));
     }
 
-    stage = "checking the result";
+    return res;
+}
+
+// The repaired mesh, checked: it must bound a volume, and without a reason to, keep the
+// input's.
+Mesh checkedResult(const SurfaceMesh& sm, const Mesh& mesh, const Resolution& res, RepairReport& rep) {
     Mesh out = toMesh(toSoup(sm), mesh.name);
     // When welding changes nothing, the result is the mesh just checked for
     // self-intersections (its points are floats already): no need to check again.
-    std::optional<bool> known = intersecting;
+    std::optional<bool> known = res.intersecting;
     {
         std::size_t repeated = 0;
         Soup welded = weldedSoup(out, &repeated);
@@ -1107,7 +1137,7 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
         // Without self-intersections or nested shells, the solid is the input's: its volume
         // may only move by the collapse of degenerate triangles and the parting of touching
         // parts. Anything more is a bug, not a repair.
-        if (!resolved && removed == 0 && std::abs(change) > 1e-4)
+        if (!res.resolved && res.removed == 0 && std::abs(change) > 1e-4)
             throw InputError(format("the repair failed: it would change the volume by {}% without a reason",
                                     std::round(change * 1e4) / 1e2));
         if (std::abs(change) > 1e-6)
@@ -1115,6 +1145,21 @@ Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
                                          before, rep.volumeAfter));
     }
     return out;
+}
+
+// The repair proper; `stage` says what it is doing, for the message should CGAL fail.
+Mesh repair(const Mesh& mesh, RepairReport& rep, const char*& stage) {
+    stage = "reading the mesh";
+    Soup soup = startRepair(mesh, rep);
+    stage = "cleaning the triangle soup";
+    cleanSoup(soup, rep);
+    stage = "orienting the triangles";
+    SurfaceMesh sm = orientSoup(soup, rep);
+    closeSurface(sm, rep, stage);
+    stage = "resolving self-intersections";
+    const Resolution res = resolveSelfIntersections(sm, rep);
+    stage = "checking the result";
+    return checkedResult(sm, mesh, res, rep);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include <dawnforge/core/materials.hpp>
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/seed.hpp>
 
 #include <algorithm>
@@ -26,6 +27,57 @@
 #include <optional>
 
 namespace dawnforge::procgen {
+
+const char* partKindName(PartKind kind) {
+    switch (kind) {
+        case PartKind::Wall: return "wall";
+        case PartKind::Trim: return "trim";
+        case PartKind::Slab: return "slab";
+        case PartKind::InteriorWall: return "interior_wall";
+        case PartKind::Stairs: return "stairs";
+        case PartKind::Balcony: return "balcony";
+        case PartKind::Railing: return "railing";
+        case PartKind::Window: return "window";
+        case PartKind::Door: return "door";
+        case PartKind::Roof: return "roof";
+    }
+    return "wall";
+}
+
+std::optional<PartKind> partKindFromName(std::string_view name) {
+    for (int k = 0; k <= static_cast<int>(PartKind::Roof); ++k)
+        if (name == partKindName(static_cast<PartKind>(k))) return static_cast<PartKind>(k);
+    return std::nullopt;
+}
+
+Mesh partMesh(const Mesh& lod0, const BuildingPart& part) {
+    const std::size_t first = part.firstTriangle, count = part.triangles;
+    if (first + count > lod0.triangleCount())
+        throw InputError(format("part {} ({} triangles from {}) runs past the mesh's {} triangles",
+                                partKindName(part.kind), count, first, lod0.triangleCount()));
+    Mesh out;
+    out.name = partKindName(part.kind);
+    std::vector<std::uint32_t> index(lod0.positions.size(), UINT32_MAX);
+    auto copy = [](const auto& from, auto& to, std::uint32_t v) {
+        if (!from.empty()) to.push_back(from[v]);
+    };
+    for (std::size_t i = 3 * first; i < 3 * (first + count); ++i) {
+        const std::uint32_t v = lod0.indices[i];
+        if (index[v] == UINT32_MAX) {
+            index[v] = static_cast<std::uint32_t>(out.positions.size());
+            out.positions.push_back(lod0.positions[v]);
+            copy(lod0.normals, out.normals, v);
+            copy(lod0.uv0, out.uv0, v);
+            copy(lod0.uv1, out.uv1, v);
+            copy(lod0.uv2, out.uv2, v);
+            copy(lod0.uv3, out.uv3, v);
+            copy(lod0.materialIds, out.materialIds, v);
+            copy(lod0.pieceIds, out.pieceIds, v);
+        }
+        out.indices.push_back(index[v]);
+    }
+    return out;
+}
 
 const char* roomKindName(RoomKind kind) {
     switch (kind) {
@@ -42,6 +94,9 @@ constexpr double kRiser = 0.2;          // stairs: target step height
 constexpr double kMinTread = 0.23;      // with kRiser: about 41 degrees, steep but a stair
 constexpr double kStairWidth = 1.1;
 constexpr double kGlassRecess = 0.08;   // glass sits this far behind the outer face
+constexpr double kGlassThickness = 0.02;
+constexpr double kDoorThickness = 0.05;
+constexpr double kRailing = 0.06;       // balcony railings: this thick, 1 m high
 constexpr double kBandHeight = 0.25;    // floor band and cornice
 constexpr double kMinEdge = 1.5;        // footprints lose vertices until every edge is this long
 constexpr double kMaxShedRise = 3.0;    // metres from the low to the high side of a shed roof
@@ -114,11 +169,61 @@ struct WallMaterials {
     std::uint8_t outer = kBrick, inner = kInteriorWall, caps = kBrick, reveal = kTrim;
 };
 
+// LOD0 as it is built: what one call of part() appends is one closed solid, recorded as a
+// BuildingPart (the fracture of a building takes them one by one).
+class Lod0 {
+public:
+    Lod0(Mesh& mesh, std::vector<BuildingPart>& parts) : mb(mesh), mesh_(mesh), parts_(parts) {}
+    template <class Build>
+    void part(PartKind kind, std::uint8_t material, Build&& build) {
+        const auto first = static_cast<std::uint32_t>(mesh_.triangleCount());
+        build(mb);
+        const auto count = static_cast<std::uint32_t>(mesh_.triangleCount()) - first;
+        if (count > 0) parts_.push_back({kind, material, first, count});
+    }
+
+    MeshBuilder mb;
+
+private:
+    Mesh& mesh_;
+    std::vector<BuildingPart>& parts_;
+};
+
+// A pane of glass or a door leaf filling an opening (from s0 to s1, z0 to z1) at `recess`
+// behind the wall's outer face, `depth` thick.
+struct Leaf {
+    glm::dvec2 a{0.0}, b{0.0};  // front corners in plan (on the pane's outer face)
+    glm::dvec2 inward{0.0};     // into the building
+    double z0 = 0, z1 = 0, depth = 0;
+    std::optional<MeshBuilder::Glass> glass;  // glass; a wooden door leaf without
+    MeshBuilder::Uv uv;
+};
+
+// A leaf as a closed box. Every face of a pane carries the interior-mapping data of the room
+// behind it (the front is what interior mapping draws; the others are hidden in the reveal).
+void appendLeaf(MeshBuilder& mb, const Leaf& leaf) {
+    using Uv = MeshBuilder::Uv;
+    const glm::dvec2 a = leaf.a, b = leaf.b, c = b + leaf.inward * leaf.depth, d = a + leaf.inward * leaf.depth;
+    const glm::dvec2 dir = glm::normalize(b - a);
+    const glm::dvec3 out = MeshBuilder::planDir(-leaf.inward), along = MeshBuilder::planDir(dir);
+    const std::uint8_t material = leaf.glass ? std::uint8_t{kGlass} : std::uint8_t{kWood};
+    const MeshBuilder::Glass* glass = leaf.glass ? &*leaf.glass : nullptr;
+    const Uv sideUv{Uv::Wall, leaf.inward, 0.0};
+    const double z0 = leaf.z0, z1 = leaf.z1;
+    mb.quad({a, z0}, {b, z0}, {b, z1}, {a, z1}, out, material, leaf.uv, glass);
+    mb.quad({d, z0}, {c, z0}, {c, z1}, {d, z1}, -out, material, leaf.uv, glass);
+    mb.quad({a, z0}, {d, z0}, {d, z1}, {a, z1}, -along, material, sideUv, glass);
+    mb.quad({b, z0}, {c, z0}, {c, z1}, {b, z1}, along, material, sideUv, glass);
+    mb.quad({a, z0}, {b, z0}, {c, z0}, {d, z0}, -MeshBuilder::up(), material, {}, glass);
+    mb.quad({a, z1}, {b, z1}, {c, z1}, {d, z1}, MeshBuilder::up(), material, {}, glass);
+}
+
 // One wall segment as part of a closed solid: outer and inner faces on the rows `levels`,
-// caps at the first and last level, reveals around the openings, glass and door leaves,
-// and (for free-standing walls) end caps.
+// caps at the first and last level, reveals around the openings and (for free-standing
+// walls) end caps. The panes and door leaves of its openings go to `leaves`: each is a solid
+// of its own.
 void appendWall(MeshBuilder& mb, const WallLine& w, std::span<const Opening> openings, std::span<const double> levels,
-                bool endCaps, const WallMaterials& mat) {
+                bool endCaps, const WallMaterials& mat, std::vector<Leaf>* leaves = nullptr) {
     using Uv = MeshBuilder::Uv;
     const Columns cols = columnsOf(w, openings);
     const glm::dvec3 out = MeshBuilder::outward(w.dir), in = -out, along = MeshBuilder::planDir(w.dir);
@@ -152,17 +257,26 @@ void appendWall(MeshBuilder& mb, const WallLine& w, std::span<const Opening> ope
         }
         if (!notch) mb.quad({oa, op.z0}, {ob, op.z0}, {ib, op.z0}, {ia, op.z0}, MeshBuilder::up(), mat.reveal, {});
         mb.quad({oa, op.z1}, {ob, op.z1}, {ib, op.z1}, {ia, op.z1}, -MeshBuilder::up(), mat.reveal, {});
-        // The pane (or door leaf), recessed from the outer face; one-sided, facing out.
-        if (!op.leaf) continue;
-        const glm::dvec2 ga = oa + w.inward * kGlassRecess, gb = ob + w.inward * kGlassRecess;
-        mb.quad({ga, op.z0}, {gb, op.z0}, {gb, op.z1}, {ga, op.z1}, out, op.glass ? kGlass : kWood, wallUv,
-                op.glass ? &*op.glass : nullptr);
+        // The pane (or door leaf), recessed from the outer face, filling the opening.
+        if (!op.leaf || !leaves) continue;
+        const double recess = std::min(kGlassRecess, w.thickness / 3.0);
+        const double depth = std::min(op.glass ? kGlassThickness : kDoorThickness, w.thickness / 3.0);
+        leaves->push_back({oa + w.inward * recess, ob + w.inward * recess, w.inward, op.z0, op.z1, depth, op.glass,
+                           wallUv});
     }
     if (!endCaps) return;
+    // The ends' normals: square ends face along the wall; an end cut along another wall's
+    // face (an interior wall meeting the exterior wall at an angle) faces across that face.
+    auto endNormal = [&](glm::dvec2 o, glm::dvec2 i, double sign) {
+        glm::dvec2 n = glm::normalize(glm::dvec2(i.y - o.y, o.x - i.x));
+        if (glm::dot(n, w.dir) * sign < 0.0) n = -n;
+        return MeshBuilder::planDir(n);
+    };
+    const glm::dvec3 startNormal = endNormal(w.o0, w.i0, -1.0), endNormal1 = endNormal(w.o1, w.i1, 1.0);
     for (std::size_t r = 0; r + 1 < levels.size(); ++r) {
         const double za = levels[r], zb = levels[r + 1];
-        mb.quad({w.o0, za}, {w.i0, za}, {w.i0, zb}, {w.o0, zb}, -along, mat.caps, sideUv);
-        mb.quad({w.o1, za}, {w.i1, za}, {w.i1, zb}, {w.o1, zb}, along, mat.caps, sideUv);
+        mb.quad({w.o0, za}, {w.i0, za}, {w.i0, zb}, {w.o0, zb}, startNormal, mat.caps, sideUv);
+        mb.quad({w.o1, za}, {w.i1, za}, {w.i1, zb}, {w.o1, zb}, endNormal1, mat.caps, sideUv);
     }
 }
 
@@ -591,7 +705,8 @@ StoreyOpenings placeOpenings(const BuildContext& ctx, const Section& sec, const 
             const bool isFront = e == plan.front && storey.floor == 0;
             const bool entrance = isFront && (piece.kind == RoomKind::Corridor ||
                                               (ctx.layout.kind == LayoutKind::Enfilade && pi == 0));
-            const bool balcony = style.balconies && storey.floor > 0 && e == plan.front &&
+            // No balconies on a tower's first storey: it stands on the terrace.
+            const bool balcony = style.balconies && storey.floor > sec.firstFloor && e == plan.front &&
                                  piece.kind == RoomKind::Room && balconyDepthOf(ctx.recipe) > 0.5;
             if (entrance)
                 placeEntrance(ctx, storey, *wall, out);
@@ -606,76 +721,114 @@ StoreyOpenings placeOpenings(const BuildContext& ctx, const Section& sec, const 
     return out;
 }
 
-// A slab `depth` deep and three railings.
-void appendBalcony(MeshBuilder& mb, const Balcony& balcony, double depth, double slabTop) {
+// A slab `depth` deep and three railings, each a part. The slab rests on the floor band
+// (its bottom at `bandTop`, or 0.2 m under the floor without one); the side railings stop
+// at the front one.
+void appendBalcony(Lod0& lod0, const Balcony& balcony, double depth, double slabTop, std::optional<double> bandTop) {
     const glm::dvec2 start = balcony.start, dir = balcony.dir, outward = balcony.outward;
     const double length = balcony.length;
     const glm::dvec2 outer = start + outward * depth;
-    appendBox(mb, outer, dir, length, depth, slabTop - 0.2, slabTop, kConcrete);
-    appendBox(mb, outer, dir, length, 0.06, slabTop, slabTop + 1.0, kMetal);
-    appendBox(mb, start, outward, depth, 0.06, slabTop, slabTop + 1.0, kMetal);
-    appendBox(mb, start + dir * (length - 0.06), outward, depth, 0.06, slabTop, slabTop + 1.0, kMetal);
+    const double bottom = bandTop ? std::min(slabTop - 0.05, std::max(slabTop - 0.2, *bandTop)) : slabTop - 0.2;
+    lod0.part(PartKind::Balcony, kConcrete,
+              [&](MeshBuilder& mb) { appendBox(mb, outer, dir, length, depth, bottom, slabTop, kConcrete); });
+    const double top = slabTop + 1.0;
+    lod0.part(PartKind::Railing, kMetal,
+              [&](MeshBuilder& mb) { appendBox(mb, outer, dir, length, kRailing, slabTop, top, kMetal); });
+    lod0.part(PartKind::Railing, kMetal,
+              [&](MeshBuilder& mb) { appendBox(mb, start, outward, depth - kRailing, kRailing, slabTop, top, kMetal); });
+    lod0.part(PartKind::Railing, kMetal, [&](MeshBuilder& mb) {
+        appendBox(mb, start + dir * (length - kRailing), outward, depth - kRailing, kRailing, slabTop, top, kMetal);
+    });
 }
 
-// The exterior wall of one storey: one closed solid, a ring of segments that all use the
-// rows of all the storey's openings.
+// The exterior wall of one storey from `bottom` up: one closed solid, a ring of segments
+// that all use the rows of all the storey's openings; then its panes and door leaves, a
+// part each.
 void appendExteriorRing(const BuildContext& ctx, const Section& sec, const SectionPlan& plan,
-                        const BuildingStyle& style, const Storey& storey,
-                        std::span<const std::vector<Opening>> openings, MeshBuilder& lod0) {
+                        const BuildingStyle& style, const Storey& storey, double bottom,
+                        std::span<const std::vector<Opening>> openings, Lod0& lod0) {
     const std::size_t n = sec.footprint.size();
-    const std::vector<double> levels = levelsOf(storey.y0, storey.y1, openings);
+    const std::vector<double> levels = levelsOf(bottom, storey.y1, openings);
     const std::uint8_t outer = storey.floor == 0 && style.shop ? std::uint8_t{kConcrete} : style.wall;
-    for (std::size_t e = 0; e < n; ++e) {
-        WallLine w = WallLine::between(sec.footprint[e], sec.footprint[(e + 1) % n], sec.inner[e],
-                                       sec.inner[(e + 1) % n], ctx.recipe.buildings.wallThickness);
-        w.uOffset = plan.run[e];
-        appendWall(lod0, w, openings[e], levels, false, {outer, kInteriorWall, style.wall, kTrim});
-    }
+    std::vector<Leaf> leaves;
+    lod0.part(PartKind::Wall, outer, [&](MeshBuilder& mb) {
+        for (std::size_t e = 0; e < n; ++e) {
+            WallLine w = WallLine::between(sec.footprint[e], sec.footprint[(e + 1) % n], sec.inner[e],
+                                           sec.inner[(e + 1) % n], ctx.recipe.buildings.wallThickness);
+            w.uOffset = plan.run[e];
+            appendWall(mb, w, openings[e], levels, false, {outer, kInteriorWall, style.wall, kTrim}, &leaves);
+        }
+    });
+    for (const Leaf& leaf : leaves)
+        lod0.part(leaf.glass ? PartKind::Window : PartKind::Door, leaf.glass ? kGlass : kWood,
+                  [&](MeshBuilder& mb) { appendLeaf(mb, leaf); });
 }
 
 // Floor slabs. Above the ground the stairs room has a floor at its door and a landing where
 // the flight from below arrives; the rest is the stairwell.
-void appendFloorSlabs(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces,
-                      MeshBuilder& lod0) {
+void appendFloorSlabs(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, Lod0& lod0) {
     const PolygonFrame& f = ctx.frame;
     const double vOrigin = glm::dot(f.origin, f.v);
+    auto slab = [&](const Polygon2& polygon) {
+        lod0.part(PartKind::Slab, kConcrete,
+                  [&](MeshBuilder& mb) { mb.prism(polygon, storey.y0, storey.slabTop, kFloor, kFloor, kFloor); });
+    };
     for (const Piece& piece : pieces) {
         if (piece.kind != RoomKind::Stairs || storey.floor == 0) {
-            lod0.prism(piece.polygon, storey.y0, storey.slabTop, kFloor, kFloor, kFloor);
+            slab(piece.polygon);
             continue;
         }
         const StairFlight below = stairFlight(ctx, storey.floor - 1);
         for (const Polygon2& part : {clipStrip(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
                                      clipStrip(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
-            if (part.size() >= 3 && signedArea(part) > 0.05)
-                lod0.prism(part, storey.y0, storey.slabTop, kFloor, kFloor, kFloor);
+            if (part.size() >= 3 && signedArea(part) > 0.05) slab(part);
     }
 }
 
-// An interior wall a -> c through the storey's slab up to its ceiling, with a doorway
-// centred `doorAt` along it where one fits; true when it got the doorway.
-bool appendInteriorWall(MeshBuilder& lod0, const InteriorRecipe& ir, const Storey& storey, glm::dvec2 a,
-                        glm::dvec2 c, std::optional<double> doorAt) {
-    const WallLine w = WallLine::centred(a, c, ir.wallThickness);
+// Where an interior wall meets the exterior wall: an end on the inner face `inner` (a convex
+// polygon) is cut along it, whatever the angle, so that the two touch and do not overlap.
+struct WallEnds {
+    bool start = false, end = false;  // cut along `inner` at o0/i0, at o1/i1
+};
+
+// An interior wall a -> c on the storey's slab up to its ceiling, with a doorway centred
+// `doorAt` (from a) along it where one fits; true when it got the doorway.
+bool appendInteriorWall(Lod0& lod0, const InteriorRecipe& ir, const Storey& storey, std::span<const glm::dvec2> inner,
+                        glm::dvec2 a, glm::dvec2 c, WallEnds ends, std::optional<double> doorAt) {
+    WallLine w = WallLine::centred(a, c, ir.wallThickness);
+    const glm::dvec2 o0 = w.o0;
+    auto cut = [&](glm::dvec2& p, bool atStart) {
+        const auto range = chord(inner, w.inward, glm::dot(w.inward, p), w.dir);
+        if (range) p += w.dir * ((atStart ? range->first : range->second) - glm::dot(w.dir, p));
+    };
+    if (ends.start) cut(w.o0, true), cut(w.i0, true);
+    if (ends.end) cut(w.o1, false), cut(w.i1, false);
+    w.length = glm::dot(w.o1 - w.o0, w.dir);
+    const double shift = glm::dot(w.o0 - o0, w.dir);  // positions along w start at its o0
     std::vector<Opening> ops;
     if (doorAt) {
         Opening d;
-        d.s0 = *doorAt - ir.doorWidth / 2, d.s1 = *doorAt + ir.doorWidth / 2;
-        // A notch from the floor's bottom: the slabs on both sides fill it up to the floor.
-        d.z0 = storey.y0, d.z1 = std::min(storey.slabTop + ir.doorHeight, storey.y1 - 0.1);
+        d.s0 = *doorAt - shift - ir.doorWidth / 2, d.s1 = d.s0 + ir.doorWidth;
+        // A notch from the wall's bottom: the slabs on both sides are the floor.
+        d.z0 = storey.slabTop, d.z1 = std::min(storey.slabTop + ir.doorHeight, storey.y1 - 0.1);
         d.leaf = false;
-        if (d.s0 > 0.05 && d.s1 < w.length - 0.05) ops.push_back(d);
+        if (d.s0 > 0.05 + std::max(0.0, w.innerStart()) && d.s1 < std::min(w.length, w.innerEnd()) - 0.05)
+            ops.push_back(d);
     }
-    const std::vector<double> levels = levelsOf(storey.y0, storey.y1, std::span<const std::vector<Opening>>(&ops, 1));
-    appendWall(lod0, w, ops, levels, true, {kInteriorWall, kInteriorWall, kInteriorWall, kInteriorWall});
+    const std::vector<double> levels =
+        levelsOf(storey.slabTop, storey.y1, std::span<const std::vector<Opening>>(&ops, 1));
+    lod0.part(PartKind::InteriorWall, kPlaster, [&](MeshBuilder& mb) {
+        appendWall(mb, w, ops, levels, true, {kInteriorWall, kInteriorWall, kInteriorWall, kInteriorWall});
+    });
     return !ops.empty();
 }
 
 // Each room's wall on the corridor, with its door, and the cut at its far end (v1), shared
 // with the next room of its side; an enfilade's cuts have a door into the next room.
-void appendRoomWalls(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, Building& b,
-                     MeshBuilder& lod0) {
+void appendRoomWalls(const BuildContext& ctx, const Section& sec, const Storey& storey, std::span<const Piece> pieces,
+                     Building& b, Lod0& lod0) {
     const InteriorRecipe& ir = ctx.recipe.interiors;
+    const double half = 0.5 * ir.wallThickness;
     const PolygonFrame& f = ctx.frame;
     const FloorLayout& L = ctx.layout;
     const double uOrigin = glm::dot(f.origin, f.u), vOrigin = glm::dot(f.origin, f.v);
@@ -694,24 +847,29 @@ void appendRoomWalls(const BuildContext& ctx, const Storey& storey, std::span<co
             const double doorAt = piece.kind == RoomKind::Stairs
                                       ? std::min(c - a - ir.doorWidth, ir.doorWidth / 2 + 0.3)
                                       : 0.5 * (c - a);
-            if (appendInteriorWall(lod0, ir, storey, f.toPlan(uLine, a), f.toPlan(uLine, c), doorAt))
+            // Along v: the first and last rooms' walls end on the front and back walls.
+            const WallEnds ends{std::isinf(piece.v0), std::isinf(piece.v1)};
+            if (appendInteriorWall(lod0, ir, storey, sec.inner, f.toPlan(uLine, a), f.toPlan(uLine, c), ends, doorAt))
                 b.doors.push_back({roomId, storey.firstRoom, false, f.toPlan(uLine, a + doorAt)});
         }
         if (std::isinf(piece.v1)) continue;
         const auto range = chord(piece.polygon, f.v, piece.v1 + vOrigin, f.u);
         if (!range) continue;
-        const double a = range->first - uOrigin, c = range->second - uOrigin;
+        double a = range->first - uOrigin, c = range->second - uOrigin;
+        // Cut walls run from low u to high u, from the corridor wall's face (not its middle)
+        // to the exterior wall; an enfilade's from one exterior wall to the other.
+        if (!enfilade) (piece.side == 0 ? c : a) += piece.side == 0 ? -half : half;
         if (c - a < 0.3) continue;
-        // Cut walls run from low u to high u.
-        const bool door = appendInteriorWall(lod0, ir, storey, f.toPlan(a, piece.v1), f.toPlan(c, piece.v1),
-                                             enfilade ? std::optional<double>(0.5 * (c - a)) : std::nullopt);
+        const WallEnds ends{enfilade || piece.side == 0, enfilade || piece.side != 0};
+        const bool door = appendInteriorWall(lod0, ir, storey, sec.inner, f.toPlan(a, piece.v1), f.toPlan(c, piece.v1),
+                                             ends, enfilade ? std::optional<double>(0.5 * (c - a)) : std::nullopt);
         if (enfilade && door && pi + 1 < pieces.size())
             b.doors.push_back({roomId, roomId + 1, false, f.toPlan(0.5 * (a + c), piece.v1)});
     }
 }
 
 // The flight from this storey's slab up to the next one's, in the stairs room.
-void appendFlights(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, MeshBuilder& lod0) {
+void appendFlights(const BuildContext& ctx, const Storey& storey, std::span<const Piece> pieces, Lod0& lod0) {
     const InteriorRecipe& ir = ctx.recipe.interiors;
     const PolygonFrame& f = ctx.frame;
     const FloorLayout& L = ctx.layout;
@@ -723,8 +881,10 @@ void appendFlights(const BuildContext& ctx, const Storey& storey, std::span<cons
             uSide = INFINITY;
             for (glm::dvec2 p : piece.polygon) uSide = std::min(uSide, f.toFrame(p).x + 0.1);
         }
-        appendStairs(lod0, f.toPlan(uSide + kStairWidth, flight.footV), f.v, kStairWidth, storey.slabTop,
-                     ctx.floorY[storey.floor + 1] + ir.slabThickness, flight.tread);
+        lod0.part(PartKind::Stairs, kConcrete, [&](MeshBuilder& mb) {
+            appendStairs(mb, f.toPlan(uSide + kStairWidth, flight.footV), f.v, kStairWidth, storey.slabTop,
+                         ctx.floorY[storey.floor + 1] + ir.slabThickness, flight.tread);
+        });
     }
 }
 
@@ -732,8 +892,7 @@ void appendFlights(const BuildContext& ctx, const Storey& storey, std::span<cons
 // (none on a section's first storey: the ground, or the terrace below a tower) and its
 // interiors. Returns the openings of each exterior wall, for the LOD1 shell.
 std::vector<std::vector<Opening>> buildStorey(const BuildContext& ctx, const Section& sec, const SectionPlan& plan,
-                                              const BuildingStyle& style, int floor, Building& b,
-                                              MeshBuilder& lod0) {
+                                              const BuildingStyle& style, int floor, Building& b, Lod0& lod0) {
     const double y0 = ctx.floorY[floor];
     const Storey storey{floor, y0, ctx.floorY[floor + 1], y0 + ctx.recipe.interiors.slabThickness,
                         static_cast<int>(b.rooms.size())};
@@ -743,15 +902,22 @@ std::vector<std::vector<Opening>> buildStorey(const BuildContext& ctx, const Sec
     StoreyOpenings openings = placeOpenings(ctx, sec, plan, style, storey);
     b.windows.insert(b.windows.end(), openings.windows.begin(), openings.windows.end());
     b.doors.insert(b.doors.end(), openings.doors.begin(), openings.doors.end());
+    const bool hasBand = floor > sec.firstFloor;
     for (const Balcony& balcony : openings.balconies)
-        appendBalcony(lod0, balcony, balconyDepthOf(ctx.recipe), storey.slabTop);
-    appendExteriorRing(ctx, sec, plan, style, storey, openings.walls, lod0);
+        appendBalcony(lod0, balcony, balconyDepthOf(ctx.recipe), storey.slabTop,
+                      hasBand ? std::optional<double>(y0 + kBandHeight / 2) : std::nullopt);
+    // A tower's first storey stands on the terrace slab, which is as thick as a floor slab.
+    const bool onTerrace = floor == sec.firstFloor && floor > 0;
+    appendExteriorRing(ctx, sec, plan, style, storey, onTerrace ? storey.slabTop : y0, openings.walls, lod0);
     const double band = ctx.recipe.buildings.trimDepth;
-    if (floor > sec.firstFloor) appendBand(lod0, sec.footprint, band, y0 - kBandHeight / 2, y0 + kBandHeight / 2);
+    if (hasBand)
+        lod0.part(PartKind::Trim, kTrim, [&](MeshBuilder& mb) {
+            appendBand(mb, sec.footprint, band, y0 - kBandHeight / 2, y0 + kBandHeight / 2);
+        });
 
     if (ctx.recipe.interiors.enabled) {
         appendFloorSlabs(ctx, storey, plan.pieces, lod0);
-        appendRoomWalls(ctx, storey, plan.pieces, b, lod0);
+        appendRoomWalls(ctx, sec, storey, plan.pieces, b, lod0);
         if (floor + 1 < b.floors && ctx.layout.hasStairs) appendFlights(ctx, storey, plan.pieces, lod0);
     }
     return std::move(openings.walls);
@@ -838,7 +1004,7 @@ void appendShell(const BuildContext& ctx, const Section& sec, const SectionPlan&
 // Everything of one section's storeys: exterior walls with openings, interiors, the LOD1
 // shell, and a cornice on top of a section that is not the building's top.
 void buildSection(const BuildContext& ctx, const Section& sec, const BuildingStyle& style, bool isTop, Building& b,
-                  MeshBuilder& lod0, MeshBuilder& lod1) {
+                  Lod0& lod0, MeshBuilder& lod1) {
     SectionPlan plan;
     plan.pieces = layoutPieces(ctx, sec);
     // The front: of the edges along the frame's u, the one nearest the street.
@@ -850,7 +1016,46 @@ void buildSection(const BuildContext& ctx, const Section& sec, const BuildingSty
     for (int floor = sec.firstFloor; floor < sec.firstFloor + sec.floorCount; ++floor)
         storeys.push_back(buildStorey(ctx, sec, plan, style, floor, b, lod0));
     appendShell(ctx, sec, plan, style, storeys, lod1);
-    if (!isTop) appendBand(lod0, sec.footprint, ctx.recipe.buildings.trimDepth, sec.y1 - kBandHeight, sec.y1);
+    if (!isTop)
+        lod0.part(PartKind::Trim, kTrim, [&](MeshBuilder& mb) {
+            appendBand(mb, sec.footprint, ctx.recipe.buildings.trimDepth, sec.y1 - kBandHeight, sec.y1);
+        });
+}
+
+// Convex pieces covering `a` outside `b` (both convex, counter-clockwise): piece k lies
+// outside b's edge k and inside its edges before k. Slivers are left out.
+std::vector<Polygon2> convexDifference(std::span<const glm::dvec2> a, std::span<const glm::dvec2> b) {
+    std::vector<Polygon2> pieces;
+    Polygon2 rest(a.begin(), a.end());
+    for (std::size_t k = 0; k < b.size() && rest.size() >= 3; ++k) {
+        const glm::dvec2 p = b[k], q = b[(k + 1) % b.size()];
+        const glm::dvec2 m = inwardNormal(p, q);
+        Polygon2 outside = simplifyPolygon(clipHalfPlane(rest, m, glm::dot(m, p)), 1e-9);
+        if (outside.size() >= 3 && signedArea(outside) > 1e-3) pieces.push_back(std::move(outside));
+        rest = clipHalfPlane(rest, -m, -glm::dot(m, p));
+    }
+    return pieces;
+}
+
+// The terrace on a base under its tower (LOD0): slabs covering the base's footprint outside
+// the tower's inner wall face (the tower's walls stand on them, its rooms have their own
+// floor slabs), each a part, and the parapet along the edge, a ring.
+void appendTerrace(const BuildContext& ctx, std::span<const glm::dvec2> footprint, const Section& tower,
+                   const RoofSettings& rs, Lod0& lod0) {
+    const double y0 = tower.y0, top = y0 + ctx.recipe.interiors.slabThickness;
+    for (const Polygon2& piece : convexDifference(footprint, tower.inner))
+        lod0.part(PartKind::Roof, kConcrete,
+                  [&](MeshBuilder& mb) { mb.prism(piece, y0, top, rs.wallMaterial, rs.flatMaterial, rs.wallMaterial); });
+    if (!(rs.parapetHeight > 0.0)) return;
+    const Polygon2 inner = mitreOffset(footprint, rs.parapetWidth);
+    lod0.part(PartKind::Roof, kConcrete, [&](MeshBuilder& mb) {
+        const double levels[2] = {top, top + rs.parapetHeight};
+        for (std::size_t i = 0, n = footprint.size(); i < n; ++i) {
+            const std::size_t j = (i + 1) % n;
+            const WallLine w = WallLine::between(footprint[i], footprint[j], inner[i], inner[j], rs.parapetWidth);
+            appendWall(mb, w, {}, levels, false, {rs.wallMaterial, rs.wallMaterial, rs.trimMaterial, rs.trimMaterial});
+        }
+    });
 }
 
 std::uint8_t pick(Rng& rng, std::initializer_list<std::uint8_t> options) {
@@ -971,7 +1176,10 @@ RoofSettings topRoofSettings(const CityRecipe& recipe, const BuildingStyle& styl
     return rs;
 }
 
-void addRoof(Building& b, const Roof& roof) {
+void addRoof(Building& b, const Roof& roof, bool pitched) {
+    b.parts.push_back({PartKind::Roof, pitched ? std::uint8_t{kRoofTiles} : std::uint8_t{kConcrete},
+                       static_cast<std::uint32_t>(b.lod0.triangleCount()),
+                       static_cast<std::uint32_t>(roof.mesh.triangleCount())});
     appendMesh(b.lod0, roof.mesh);
     appendMesh(b.lod1, roof.mesh);
 }
@@ -1017,17 +1225,23 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     b.footprint = footprint;
     if (tower) b.towerFootprint = tower->footprint;
     b.wallMaterial = draw.style.wall;
-    ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, 0.0);
+    // The lot lies inside its block's kerb: the building stands on the kerb's top.
+    const double ground = recipe.streets.curbHeight;
+    ctx.floorY.resize(static_cast<std::size_t>(b.floors) + 1, ground);
     for (int fl = 0; fl < b.floors; ++fl) ctx.floorY[fl + 1] = ctx.floorY[fl] + storeyHeightOf(recipe.buildings, fl);
 
-    MeshBuilder lod0(b.lod0), lod1(b.lod1);
-    const Section baseSection{footprint, base->inner, 0, floors, 0.0, ctx.floorY[floors]};
+    Lod0 lod0(b.lod0, b.parts);
+    MeshBuilder lod1(b.lod1);
+    const Section baseSection{footprint, base->inner, 0, floors, ground, ctx.floorY[floors]};
     buildSection(ctx, baseSection, draw.style, !tower, b, lod0, lod1);
     if (tower) {
-        // The base's roof: a flat terrace under the tower.
-        addRoof(b, buildRoof(footprint, ctx.floorY[floors], roofSettings(recipe, RoofType::Flat, draw.style)));
+        // The base's roof: a flat terrace under the tower; in LOD0 slabs around the tower's
+        // rooms and a parapet, so that nothing overlaps.
+        const RoofSettings terrace = roofSettings(recipe, RoofType::Flat, draw.style);
+        appendMesh(b.lod1, buildRoof(footprint, ctx.floorY[floors], terrace).mesh);
         const Section towerSection{tower->footprint, tower->inner, floors, towerFloors, ctx.floorY[floors],
                                    ctx.floorY[b.floors]};
+        appendTerrace(ctx, footprint, towerSection, terrace, lod0);
         buildSection(ctx, towerSection, draw.style, true, b, lod0, lod1);
     }
     // Tall buildings and towers get flat roofs.
@@ -1036,9 +1250,9 @@ Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t s
     const glm::dvec2 streetDir = glm::normalize(footprint[(frontEdge + 1) % footprint.size()] - footprint[frontEdge]);
     const RoofSettings rs = topRoofSettings(recipe, draw.style, flat ? RoofType::Flat : draw.roof, top, streetDir);
     const Roof roof = buildRoof(top, ctx.floorY[b.floors], rs);
-    addRoof(b, roof);
+    addRoof(b, roof, rs.type != RoofType::Flat);
     b.roof = rs.type;
-    b.height = ctx.floorY[b.floors] + roof.height;
+    b.height = ctx.floorY[b.floors] - ground + roof.height;
     joinStairs(b);
     return b;
 }

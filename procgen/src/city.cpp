@@ -257,6 +257,12 @@ std::string cityReportJson(const City& city) {
             one["tower_footprint"] = points(b.towerFootprint);
             one["tower_floors"] = b.floors - b.baseFloors;
         }
+        // LOD0's closed solids: [kind, material, first triangle, triangles].
+        Json parts = Json::array();
+        for (const BuildingPart& part : b.parts)
+            parts.push_back(Json::array({partKindName(part.kind), materialName(part.material), part.firstTriangle,
+                                         part.triangles}));
+        one["parts"] = std::move(parts);
         buildings.push_back(std::move(one));
     }
     j["buildings"] = std::move(buildings);

@@ -146,7 +146,7 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
         glEnable(GL_DEPTH_TEST);
         glDepthFunc(GL_LESS);
         glDisable(GL_CULL_FACE);  // city meshes are closed but their winding is not relied on
-        s.stats.drawCalls += s.scene.drawOpaque(s.cameraPos, s.viewProj, s.options.lodDistance, s.stats);
+        s.stats.drawCalls += s.scene.drawOpaque(s.cameraPos, s.viewProj, s.options.lodDistance, s.frame.time, s.stats);
     });
     s.graph.add("destruction", [&s] { s.stats.drawCalls += s.scene.drawDestruction(s.frame.time, s.stats); });
     s.graph.add("sky", [&s] {

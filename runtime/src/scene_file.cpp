@@ -131,13 +131,15 @@ OceanSettings readOcean(const Reader& r, const Json& j) {
 }
 
 DestructionInstance readDestruction(const Reader& r, const Json& j, const std::string& path) {
-    r.object(j, path, {"vat", "name", "position", "yaw_degrees", "start_time"});
+    r.object(j, path, {"vat", "name", "position", "yaw_degrees", "start_time", "replaces"});
     DestructionInstance d;
     d.vatDir = r.folderPath(r.required(j, path, "vat", "the folder written by `dawnforge vat`"), path + ".vat");
     d.name = r.name(r.required(j, path, "name", "the VAT's name: <name>_data.json in the folder"), path + ".name");
     if (j.contains("position")) d.position = r.vec3(j["position"], path + ".position");
     if (j.contains("yaw_degrees")) d.yawDegrees = r.number(j["yaw_degrees"], path + ".yaw_degrees");
     if (j.contains("start_time")) d.startTime = r.number(j["start_time"], path + ".start_time");
+    if (j.contains("replaces") && !j["replaces"].is_null())
+        d.replaces = r.integer(j["replaces"], path + ".replaces", 0, std::numeric_limits<int>::max());
     return d;
 }
 
@@ -251,12 +253,14 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
                       {"grid", Json::array({scene.ocean->columns, scene.ocean->rows})},
                       {"shore_depth", scene.ocean->shoreDepth}};
     j["destruction"] = Json::array();
-    for (const DestructionInstance& d : scene.destruction)
+    for (const DestructionInstance& d : scene.destruction) {
         j["destruction"].push_back({{"vat", relativePath(d.vatDir, relativeTo)},
                                     {"name", d.name},
                                     {"position", vec(d.position)},
                                     {"yaw_degrees", d.yawDegrees},
                                     {"start_time", d.startTime}});
+        if (d.replaces) j["destruction"].back()["replaces"] = *d.replaces;
+    }
     j["cameras"] = Json::array();
     for (const SceneCamera& c : scene.cameras)
         j["cameras"].push_back(

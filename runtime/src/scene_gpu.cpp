@@ -113,6 +113,8 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     glTextureSubImage3D(lightmaps_.id(), 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, black);
     if (scene.cityDir) loadCity(*scene.cityDir);
     for (const DestructionInstance& d : scene.destruction) loadVat(d);
+    for (const DestructionInstance& d : scene.destruction)
+        if (d.replaces) replaceBuilding(d);
     if (boundsMin_.x > boundsMax_.x) boundsMin_ = glm::dvec3(-10.0), boundsMax_ = glm::dvec3(10.0);
 
     // The shadow map: depth with hardware comparison (sampler2DShadow).
@@ -173,6 +175,7 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
                 std::uint32_t id = std::uint32_t(buildings_.size());
                 if (key.starts_with("building_")) id = std::uint32_t(std::strtoul(key.c_str() + 9, nullptr, 10));
                 b.instance = std::uint32_t(instances.size());
+                b.id = id;
                 instances.push_back({instanceBlocks(id), id});
                 buildings_.push_back(b);
             }
@@ -244,6 +247,16 @@ void SceneGpu::loadOverlook(const OverlookDepth& o) {
     bakedOverlook_ = true;
 }
 
+// The building a destruction replaces is hidden from its start time on.
+void SceneGpu::replaceBuilding(const DestructionInstance& d) {
+    for (Building& b : buildings_)
+        if (b.id == std::uint32_t(*d.replaces)) {
+            b.until = std::min(b.until, d.startTime);
+            return;
+        }
+    throw InputError(format("destruction {}: \"replaces\": the city has no building {}", d.name, *d.replaces));
+}
+
 void SceneGpu::loadVat(const DestructionInstance& d) {
     const exporters::VatFile file = exporters::readVat(d.vatDir, d.name);
     if (file.preset != exporters::VatPreset::Native)
@@ -257,7 +270,10 @@ void SceneGpu::loadVat(const DestructionInstance& d) {
     v.startTime = d.startTime;
     v.model = glm::translate(glm::mat4(1.0f), glm::vec3(d.position)) *
               glm::rotate(glm::mat4(1.0f), float(glm::radians(d.yawDegrees)), glm::vec3(0, 1, 0));
-    v.blocks = instanceBlocks(0xfffeu);
+    // A building's destruction wears the building's own atlas blocks (its brick, its plaster).
+    v.replacing = d.replaces.has_value();
+    v.building = d.replaces ? std::uint32_t(*d.replaces) : 0xfffeu;
+    v.blocks = instanceBlocks(v.building);
     for (auto [texture, data] : {std::pair{&v.position, &file.position}, std::pair{&v.rotation, &file.rotation}}) {
         *texture = gl::makeTexture2D(GL_RGBA32F, file.layout.width, file.layout.height, 1, GL_NEAREST, GL_NEAREST,
                                      GL_CLAMP_TO_EDGE);
@@ -348,7 +364,7 @@ void SceneGpu::renderOverlook() {
     overlookArea_ = glm::vec4(lo.x, lo.z, std::max(hi.x - lo.x, 1e-3f), std::max(hi.z - lo.z, 1e-3f));
     overlookDepth_ = glm::vec4(top, nearPlane, farPlane - nearPlane, 0.0f);
 
-    drawShells(overlookFbo_.id(), kOverlookSize, viewProj);
+    drawShells(overlookFbo_.id(), kOverlookSize, viewProj, -std::numeric_limits<double>::infinity());
     glFinish();
     overlookMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -400,7 +416,7 @@ std::size_t SceneGpu::drawStatic(const std::vector<Command>& commands) {
 }
 
 // Depth of the ground and every building's LOD1 shell into `fbo` (cleared first).
-std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj) {
+std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj, double time) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, size, size);
     glEnable(GL_DEPTH_TEST);
@@ -414,16 +430,18 @@ std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj
     glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(viewProj));
     std::vector<Command> commands;
     for (const Static& s : statics_) commands.push_back({s.range.count, 1, s.range.firstIndex, s.range.baseVertex, s.instance});
-    for (const Building& b : buildings_) commands.push_back({b.lod1.count, 1, b.lod1.firstIndex, b.lod1.baseVertex, b.instance});
+    for (const Building& b : buildings_)
+        if (time < b.until) commands.push_back({b.lod1.count, 1, b.lod1.firstIndex, b.lod1.baseVertex, b.instance});
     return drawStatic(commands);
 }
 
 std::size_t SceneGpu::drawShadow(double time) {
     // The falling pieces cast shadows too.
-    return drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_) + drawVats(time, true, nullptr);
+    return drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time) + drawVats(time, true, nullptr);
 }
 
-std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, FrameStats& stats) {
+std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time,
+                                 FrameStats& stats) {
     if (statics_.empty() && buildings_.empty()) return 0;
     glUseProgram(surface_.id());
     glUniform1i(4, roomStyles_);
@@ -433,12 +451,14 @@ std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, d
         stats.triangles += s.range.count / 3;
     }
     for (const Building& b : buildings_) {
+        if (time >= b.until) continue;  // its destruction has taken its place
         if (outsideFrustum(viewProj, b.min, b.max)) {
             ++stats.culledBuildings;
             continue;
         }
         const glm::dvec3 nearest = glm::clamp(camera, glm::dvec3(b.min), glm::dvec3(b.max));
-        const bool near = glm::length(nearest - camera) < lodDistance;
+        // A building that a destruction replaces draws LOD0 at any distance, as its pieces do.
+        const bool near = glm::length(nearest - camera) < lodDistance || b.until < std::numeric_limits<double>::infinity();
         const DrawRange& r = near ? b.lod0 : b.lod1;
         ++(near ? stats.lod0Buildings : stats.lod1Buildings);
         commands.push_back({r.count, 1, r.firstIndex, r.baseVertex, b.instance});
@@ -453,9 +473,10 @@ std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
     if (depth) glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(lightViewProj_));
     else glUniform1i(4, roomStyles_);
     for (const Vat& v : vats_) {
+        if (v.replacing && time < v.startTime) continue;  // the building stands until then
         glBindVertexArray(v.vao.id());
         glVertexAttribI4ui(6, v.blocks.x, v.blocks.y, v.blocks.z, v.blocks.w);
-        glVertexAttribI1ui(7, 0xfffeu);
+        glVertexAttribI1ui(7, v.building);
         glBindTextureUnit(3, v.position.id());
         glBindTextureUnit(4, v.rotation.id());
         glUniform4fv(1, 1, glm::value_ptr(v.layout));

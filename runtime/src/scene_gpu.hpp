@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace dawnforge::runtime {
@@ -57,7 +58,7 @@ public:
 
     // Each returns the number of draw calls it made.
     std::size_t drawShadow(double time);
-    std::size_t drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, FrameStats& stats);
+    std::size_t drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time, FrameStats& stats);
     std::size_t drawDestruction(double time, FrameStats& stats);
     std::size_t drawOcean(FrameStats& stats);  // from the camera given to setCamera()
 
@@ -66,6 +67,8 @@ private:
         DrawRange lod0, lod1;
         glm::vec3 min{0.0f}, max{0.0f};
         std::uint32_t instance = 0;
+        std::uint32_t id = 0;                                      // the city's building id
+        double until = std::numeric_limits<double>::infinity();  // scene time a destruction replaces it
     };
     struct Static {
         DrawRange range;
@@ -79,6 +82,8 @@ private:
         gl::Texture position, rotation;
         glm::vec4 layout{0.0f};  // W, R, height, frames
         double fps = 30.0, startTime = 0.0;
+        bool replacing = false;      // replaces a building: not drawn before startTime
+        std::uint32_t building = 0xfffeu;  // the instance id the shaders see (the building's when replacing)
         glm::mat4 model{1.0f};
         glm::uvec4 blocks{0u};
     };
@@ -92,10 +97,11 @@ private:
     void loadLightmaps(const LightmapArray& lightmaps);
     void loadOverlook(const OverlookDepth& overlook);
     void loadVat(const DestructionInstance& instance);
+    void replaceBuilding(const DestructionInstance& instance);
     void loadOcean(const OceanSettings& settings);
     void renderOverlook();
     std::size_t drawStatic(const std::vector<Command>& commands);
-    std::size_t drawShells(GLuint fbo, int size, const glm::mat4& viewProj);
+    std::size_t drawShells(GLuint fbo, int size, const glm::mat4& viewProj, double time);
     std::size_t drawVats(double time, bool depth, FrameStats* stats);
 
     // City geometry.

@@ -10,6 +10,7 @@
 // in metres and the interior material; cut planes give the bond graph.
 //
 // This is the only translation unit of sim that includes CGAL.
+#include "part_contact.hpp"
 #include "piece_surface.hpp"
 #include "pieces.hpp"
 #include "rough.hpp"
@@ -19,6 +20,7 @@
 #include <dawnforge/core/seed.hpp>
 #include <dawnforge/core/validate.hpp>
 #include <dawnforge/sim/fracture.hpp>
+#include <dawnforge/sim/fracture_parts.hpp>
 
 #include <CGAL/Convex_hull_3/dual/halfspace_intersection_3.h>
 #include <CGAL/Delaunay_triangulation_3.h>
@@ -306,7 +308,21 @@ struct Cells {
     std::vector<CGAL::Bbox_3> boxes;
 };
 
-Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bounds, std::int64_t cellBase) {
+// The metric of stretched cells: distances along the unit grain shrink by `stretch`, so
+// cells come out `stretch` times longer along it (splinters). Its bisectors are still planes:
+// through the midpoint of two seeds, normal to M·(b − a) with M = I + (1/stretch² − 1)·g·gᵀ;
+// its Delaunay neighbours are those of the seeds squeezed along the grain.
+struct Metric {
+    glm::dvec3 grain{0.0, 1.0, 0.0};
+    double stretch = 1.0;
+    glm::dvec3 squeeze(const glm::dvec3& p) const { return p + (1.0 / stretch - 1.0) * glm::dot(p, grain) * grain; }
+    glm::dvec3 bisectorNormal(const glm::dvec3& d) const {
+        return d + (1.0 / (stretch * stretch) - 1.0) * glm::dot(d, grain) * grain;
+    }
+};
+
+Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bounds, std::int64_t cellBase,
+                 const Metric& metric) {
     const std::size_t n = seeds.size();
     std::vector<std::vector<std::uint32_t>> neighbours(n);
     if (n <= 8) {  // tiny or degenerate configurations: every other seed is a neighbour
@@ -315,7 +331,7 @@ Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bound
                 if (i != j) neighbours[i].push_back(j);
     } else {
         std::vector<std::pair<Point, std::uint32_t>> points;
-        for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(toPoint(seeds[i]), i);
+        for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(toPoint(metric.squeeze(seeds[i])), i);
         Delaunay dt(points.begin(), points.end());
         if (dt.dimension() < 3 || dt.number_of_vertices() != n)
             throw InputError("fracture: the seeds are coplanar or repeated");
@@ -334,7 +350,7 @@ Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bound
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
         std::vector<CutPlane>& planes = cells.planes[i];
         for (std::uint32_t j : neighbours[i]) {
-            const glm::dvec3 normal = seeds[j] - seeds[i];
+            const glm::dvec3 normal = metric.bisectorNormal(seeds[j] - seeds[i]);
             const double len = glm::length(normal);
             if (len == 0.0) throw InputError(format("fracture: seeds {} and {} are at the same point", i, j));
             const glm::dvec3 mid = 0.5 * (seeds[i] + seeds[j]);
@@ -488,8 +504,7 @@ struct Grid {
     glm::dvec3 snap(const glm::dvec3& p) const { return at(key(p)); }
 };
 
-Grid gridFor(const Mesh& mesh) {
-    const Bounds b = computeBounds(mesh.positions);
+Grid gridFor(const Bounds& b) {
     Grid g;
     for (int axis = 0; axis < 3; ++axis) {
         const double reach = std::max({std::abs(double(b.min[axis])), std::abs(double(b.max[axis])),
@@ -797,7 +812,8 @@ Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes,
     const CGAL::Bbox_3& b = in.bbox;
     const double diagonal =
         std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) + std::pow(b.zmax() - b.zmin(), 2));
-    const Cells cells = buildCells(seeds, expanded(b, 0.01 * diagonal + 1e-6), cellBase);
+    const Metric metric{glm::normalize(settings.grain), settings.stretch};
+    const Cells cells = buildCells(seeds, expanded(b, 0.01 * diagonal + 1e-6), cellBase, metric);
 
     if (settings.roughness > 0.0) {
         Call call;
@@ -807,10 +823,14 @@ Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes,
     }
 
     std::vector<SM> results(seeds.size());
-    Hierarchy hierarchy{in.sm, cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
-    std::vector<std::uint32_t> all(seeds.size());
-    std::iota(all.begin(), all.end(), 0u);
-    hierarchy.process(in.sm, std::move(all));
+    if (seeds.size() == 1) {  // one cell holds the whole mesh: nothing to cut
+        results[0] = in.sm;
+    } else {
+        Hierarchy hierarchy{in.sm, cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
+        std::vector<std::uint32_t> all(seeds.size());
+        std::iota(all.begin(), all.end(), 0u);
+        hierarchy.process(in.sm, std::move(all));
+    }
 
     // Pieces in cell order, the parts of a cell in the order of their smallest corner.
     std::vector<std::vector<detail::RawPiece>> perCell(seeds.size());
@@ -885,15 +905,19 @@ void checkSettings(const FractureSettings& s) {
     if (s.levels > 0 && !s.impact)
         throw InputError("re-fracture levels need an impact point (the pieces near it are fractured again)");
     if (s.levelPieces < 2) throw InputError(format("a re-fractured piece needs at least 2 pieces (got {})", s.levelPieces));
+    if (!finite(s.grain) || !(glm::length(s.grain) > 0.0)) throw InputError("the grain direction must not be zero");
+    if (!(s.stretch >= 1.0) || !std::isfinite(s.stretch))
+        throw InputError(format("the stretch of cells along the grain must be at least 1 (got {})", s.stretch));
     if (!(s.roughness >= 0.0) || !(s.roughScale >= 0.0) || !(s.voxelSize >= 0.0))
         throw InputError("roughness, its scale and the voxel size must not be negative");
 }
 
 // Fractures again, `levels` times, the pieces whose centre lies within the impact radius.
 // A re-fractured piece's faces keep the cut plane they lay on, so its sub-pieces bond to
-// the neighbours it had.
+// the neighbours it had. A piece of part k is cut with partSettings[k] (its density, grain).
 std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, std::int64_t nextCell, const Grid& grid,
-                                         const FractureSettings& settings, const ProgressFn& progress) {
+                                         const FractureSettings& settings,
+                                         std::span<const FractureSettings> partSettings, const ProgressFn& progress) {
     for (int level = 1; level <= settings.levels && settings.impact; ++level) {
         std::vector<detail::RawPiece> next;
         for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -903,7 +927,7 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
                 next.push_back(std::move(p));
                 continue;
             }
-            FractureSettings sub = settings;
+            FractureSettings sub = p.part >= 0 ? partSettings[std::size_t(p.part)] : settings;
             sub.pieces = settings.levelPieces;
             sub.impact.reset();
             sub.points.clear();
@@ -912,6 +936,7 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
             nextCell += std::int64_t(call.seeds.size());
             for (detail::RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
+                q.part = p.part;
                 next.push_back(std::move(q));
             }
         }
@@ -932,6 +957,7 @@ std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces) {
         piece.mass = raw.mass;
         piece.cell = std::uint32_t(raw.cell);
         piece.level = raw.level;
+        piece.part = raw.part;
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
@@ -952,7 +978,7 @@ FractureResult fractureChecked(const Mesh& input, const FractureSettings& settin
     checkInput(mesh);
     result.inputTriangles = mesh.triangleCount();
     result.inputVolume = volumeOf(mesh);
-    const Grid grid = gridFor(mesh);
+    const Grid grid = gridFor(computeBounds(mesh.positions));
     const Bounds bounds = computeBounds(mesh.positions);
     const double diagonal = glm::length(bounds.max - bounds.min);
     const double minArea = 1e-12 * diagonal * diagonal;  // contacts smaller than this are rounding
@@ -962,7 +988,7 @@ FractureResult fractureChecked(const Mesh& input, const FractureSettings& settin
     Call top = fractureOnce(mesh, nullptr, {}, 0, grid, settings, [&](double f) { return progress(f * share); });
     result.seeds = top.seeds;
     std::vector<detail::RawPiece> pieces =
-        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings,
+        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings, {},
                    [&](double f) { return progress(share + f * (1.0 - share)); });
     if (settings.minVolume > 0.0)
         result.merged = detail::mergeSmallPieces(pieces, settings.minVolume, settings.density, minArea);
@@ -979,6 +1005,250 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
     try {
         return fractureChecked(mesh, settings, progress);
     } catch (const CGAL::Failure_exception& e) {  // degenerate geometry CGAL gave up on
+        throw InputError(format("fracture: CGAL could not handle the geometry: {}", e.message()));
+    }
+}
+
+
+const char* breakStyleName(BreakStyle style) {
+    switch (style) {
+        case BreakStyle::Voronoi: return "voronoi";
+        case BreakStyle::Shards: return "shards";
+        case BreakStyle::Splinters: return "splinters";
+    }
+    return "voronoi";
+}
+
+std::array<MaterialBreak, kMaterialCount> defaultMaterialBreaks() {
+    std::array<MaterialBreak, kMaterialCount> table;
+    table.fill({BreakStyle::Voronoi, 2400.0, 1e6});
+    table[kAsphalt].density = 2300.0;
+    table[kPaving].density = 2300.0;
+    table[kBrick] = {BreakStyle::Voronoi, 1900.0, 5e5};
+    table[kPlaster] = {BreakStyle::Voronoi, 1200.0, 2e5};
+    table[kGlass] = {BreakStyle::Shards, 2500.0, 5e4};
+    table[kMetal].density = 1500.0;  // railings are bars and air, drawn as solid plates
+    table[kTrim] = {BreakStyle::Voronoi, 2200.0, 5e5};
+    table[kRoofTiles] = {BreakStyle::Voronoi, 1800.0, 5e5};
+    table[kWood] = {BreakStyle::Splinters, 600.0, 3e5};
+    table[kInteriorWall] = {BreakStyle::Voronoi, 1200.0, 2e5};
+    table[kSand] = {BreakStyle::Voronoi, 1600.0, 1e5};
+    table[kRubble] = {BreakStyle::Voronoi, 1900.0, 1e5};
+    return table;
+}
+
+namespace {
+
+// ∫ over the mesh of the impact weight 1 + boost·exp(−(d/r)²) (the density of seeds), by
+// signed tetrahedra from the bounds' centre, each weighted at its centroid: exact for the
+// plain volume, close enough to share cells out near the impact.
+double weightedVolume(const Mesh& mesh, const FractureSettings& s) {
+    const Bounds b = computeBounds(mesh.positions);
+    const glm::dvec3 o = 0.5 * (b.min + b.max);
+    double sum = 0.0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), bb(mesh.positions[mesh.indices[3 * t + 1]]),
+            c(mesh.positions[mesh.indices[3 * t + 2]]);
+        const double volume = glm::dot(a - o, glm::cross(bb - o, c - o)) / 6.0;
+        double weight = 1.0;
+        if (s.impact) {
+            const double d = glm::length(0.25 * (o + a + bb + c) - *s.impact) / s.impactRadius;
+            weight += s.impactDensity * std::exp(-d * d);
+        }
+        sum += volume * weight;
+    }
+    return std::max(sum, 0.0);
+}
+
+double surfaceArea(const Mesh& mesh) {
+    double area = 0.0;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), b(mesh.positions[mesh.indices[3 * t + 1]]),
+            c(mesh.positions[mesh.indices[3 * t + 2]]);
+        area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+    return area;
+}
+
+void checkPartsSettings(std::span<const FracturePart> parts, const PartsFractureSettings& s) {
+    if (parts.empty()) throw InputError("there are no parts to fracture");
+    FractureSettings common = s.common;
+    common.points.clear();
+    checkSettings(common);
+    if (!(s.shardSize > 0.0) || !std::isfinite(s.shardSize))
+        throw InputError(format("the shard size must be positive (got {})", s.shardSize));
+    if (!(s.splinterWidth > 0.0) || !(s.splinterLength >= s.splinterWidth) || !std::isfinite(s.splinterLength))
+        throw InputError(format("splinters need a positive width and a length at least as large (got {} by {})",
+                                s.splinterWidth, s.splinterLength));
+    if (s.common.roughness > 0.0) throw InputError("rough cut surfaces are not available when fracturing parts");
+    for (const MaterialBreak& m : s.materials) {
+        if (!(m.density > 0.0) || !std::isfinite(m.density))
+            throw InputError(format("a material's density must be positive (got {})", m.density));
+        if (!(m.strength >= 0.0) || !std::isfinite(m.strength))
+            throw InputError(format("a material's strength must not be negative (got {})", m.strength));
+    }
+    std::size_t triangles = 0;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const FracturePart& part = parts[i];
+        if (part.material >= kMaterialCount)
+            throw InputError(format("part {} ({}): material IDs are 0 to 15 (got {})", i, part.kind, int(part.material)));
+        if (!finite(part.grain) || !(glm::length(part.grain) > 0.0))
+            throw InputError(format("part {} ({}): the grain direction must not be zero", i, part.kind));
+        triangles += part.mesh.triangleCount();
+    }
+    if (triangles > kMaxFractureTriangles)
+        throw InputError(format("the parts have {} triangles; fracture takes at most {} (about 5 KB of memory each)",
+                                triangles, kMaxFractureTriangles));
+}
+
+// Checks each part and records what it is (result.parts), with the bounds of them all.
+Bounds describeParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings, FractureResult& result) {
+    result.parts.resize(parts.size());
+    Bounds all{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const FracturePart& part = parts[i];
+        try {
+            checkInput(part.mesh);
+        } catch (const RepairableMeshError& e) {
+            throw RepairableMeshError(format("part {} ({}): {}", i, part.kind, e.what()));
+        } catch (const InputError& e) {
+            throw InputError(format("part {} ({}): {}", i, part.kind, e.what()));
+        }
+        PartResult& r = result.parts[i];
+        r.kind = part.kind;
+        r.material = part.material;
+        r.style = settings.materials[part.material].style;
+        r.volume = volumeOf(part.mesh);
+        r.triangles = part.mesh.triangleCount();
+        const Bounds b = computeBounds(part.mesh.positions);
+        all.min = glm::min(all.min, b.min);
+        all.max = glm::max(all.max, b.max);
+        result.inputVolume += r.volume;
+        result.inputTriangles += r.triangles;
+    }
+    return all;
+}
+
+// Each part's own settings: its cells (Voronoi parts share `pieces` by weighted volume;
+// shards and splinters by the area of one face of the plate), density, seed and grain.
+std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
+                                        FractureResult& result) {
+    const std::size_t n = parts.size();
+    std::vector<double> weights(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        if (result.parts[i].style == BreakStyle::Voronoi) weights[i] = weightedVolume(parts[i].mesh, settings.common);
+    const double totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+    std::vector<FractureSettings> partSettings(n, settings.common);
+    for (std::size_t i = 0; i < n; ++i) {
+        const FracturePart& part = parts[i];
+        FractureSettings& ps = partSettings[i];
+        const double area = 0.5 * surfaceArea(part.mesh);  // one face of a thin plate
+        double cells = 1.0;
+        switch (result.parts[i].style) {
+            case BreakStyle::Voronoi:
+                cells = totalWeight > 0.0 ? settings.common.pieces * weights[i] / totalWeight : 1.0;
+                break;
+            case BreakStyle::Shards: cells = area / (settings.shardSize * settings.shardSize); break;
+            case BreakStyle::Splinters:
+                cells = area / (settings.splinterWidth * settings.splinterLength);
+                ps.grain = glm::normalize(part.grain);
+                ps.stretch = settings.splinterLength / settings.splinterWidth;
+                break;
+        }
+        ps.pieces = int(std::clamp(std::round(cells), 1.0, 100000.0));
+        ps.density = settings.materials[part.material].density;
+        ps.seed = deriveSeed(settings.common.seed, "fracture-part", i);
+        ps.levels = 0;
+        ps.points.clear();
+        if (ps.pieces == 1) {  // the whole part is one piece: no seed to sample
+            const Bounds b = computeBounds(part.mesh.positions);
+            ps.points.push_back(0.5 * (b.min + b.max));
+        }
+        result.parts[i].cells = std::size_t(ps.pieces);
+    }
+    return partSettings;
+}
+
+// Level 0 of every part, in parallel, each into its own slot; pieces come part by part.
+std::vector<detail::RawPiece> fractureEachPart(std::span<const FracturePart> parts,
+                                               std::span<const FractureSettings> partSettings, const Grid& grid,
+                                               double share, const ProgressFn& progress, FractureResult& result) {
+    const std::size_t n = parts.size();
+    std::vector<std::int64_t> cellBase(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) cellBase[i + 1] = cellBase[i] + partSettings[i].pieces;
+    // Where parts touch: their faces there become contact faces, bonded like cut faces.
+    std::vector<const Mesh*> meshes;
+    for (const FracturePart& part : parts) meshes.push_back(&part.mesh);
+    const detail::PartContacts contacts = detail::partContacts(meshes);
+    std::vector<Call> calls(n);
+    std::atomic<std::size_t> done{0};
+    std::mutex progressMutex;
+    std::atomic<bool> cancelled{false};
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        if (cancelled) return;
+        try {
+            calls[i] = fractureOnce(parts[i].mesh, &contacts.planes[i], {}, cellBase[i], grid, partSettings[i], noProgress);
+        } catch (const InputError& e) {
+            throw InputError(format("part {} ({}): {}", i, parts[i].kind, e.what()));
+        }
+        for (detail::RawPiece& p : calls[i].pieces) p.part = std::int32_t(i);
+        const std::size_t d = ++done;
+        std::lock_guard lock(progressMutex);
+        if (!progress(share * double(d) / double(n))) cancelled = true;
+    });
+    if (cancelled) throw Cancelled();
+    std::vector<detail::RawPiece> pieces;
+    for (Call& call : calls) {
+        result.seeds.insert(result.seeds.end(), call.seeds.begin(), call.seeds.end());
+        for (detail::RawPiece& p : call.pieces) pieces.push_back(std::move(p));
+    }
+    return pieces;
+}
+
+FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
+                                    const ProgressFn& progress) {
+    checkPartsSettings(parts, settings);
+    const FractureSettings& common = settings.common;
+    FractureResult result;
+    const Bounds all = describeParts(parts, settings, result);
+    const std::vector<FractureSettings> partSettings = planParts(parts, settings, result);
+    const Grid grid = gridFor(all);  // one grid: touching faces of two parts stay on one plane
+    const double diagonal = glm::length(all.max - all.min);
+    const double minArea = 1e-12 * diagonal * diagonal;
+    const double share = 1.0 / double(1 + common.levels);
+    std::vector<detail::RawPiece> pieces = fractureEachPart(parts, partSettings, grid, share, progress, result);
+    std::int64_t nextCell = 0;
+    for (const FractureSettings& ps : partSettings) nextCell += ps.pieces;
+    pieces = refracture(std::move(pieces), nextCell, grid, common, partSettings,
+                        [&](double f) { return progress(share + f * (1.0 - share)); });
+    if (common.minVolume > 0.0) result.merged = detail::mergeSmallPieces(pieces, common.minVolume, 1.0, minArea);
+    // Rounded at unit density, then each piece weighed at its own part's density.
+    pieces = detail::roundForFiles(std::move(pieces), 1.0);
+    for (detail::RawPiece& p : pieces) {
+        const double density = partSettings[std::size_t(p.part)].density;
+        p.mass.mass *= density;
+        p.mass.inertia *= density;
+    }
+    result.bonds = detail::bondsBetween(pieces, minArea);
+    result.pieces = finalPieces(pieces);
+    for (FracturePiece& p : result.pieces) {
+        p.material = parts[std::size_t(p.part)].material;
+        ++result.parts[std::size_t(p.part)].pieces;
+    }
+    for (Bond& b : result.bonds)
+        b.strength = std::min(settings.materials[result.pieces[b.a].material].strength,
+                              settings.materials[result.pieces[b.b].material].strength);
+    progress(1.0);
+    return result;
+}
+
+}  // namespace
+
+FractureResult fractureParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
+                             const ProgressFn& progress) {
+    try {
+        return fracturePartsChecked(parts, settings, progress);
+    } catch (const CGAL::Failure_exception& e) {
         throw InputError(format("fracture: CGAL could not handle the geometry: {}", e.message()));
     }
 }

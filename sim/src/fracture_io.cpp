@@ -1,5 +1,7 @@
 #include <dawnforge/sim/fracture_io.hpp>
 
+#include <dawnforge/core/materials.hpp>
+
 #include <nlohmann/json.hpp>
 
 namespace dawnforge::sim {
@@ -28,11 +30,13 @@ Scene fractureScene(const FractureResult& result) {
     return scene;
 }
 
-std::string fractureJson(const FractureResult& result, const FractureSettings& settings, std::string_view inputFile) {
+std::string fractureJson(const FractureResult& result, const FractureSettings& settings, std::string_view inputFile,
+                         int building) {
     nlohmann::ordered_json j;
     j["format"] = "dawnforge.fracture";
     j["version"] = 1;
     j["input"] = {{"file", std::string(inputFile)}, {"triangles", result.inputTriangles}, {"volume", result.inputVolume}};
+    if (building >= 0) j["input"]["building"] = building;
     j["seed"] = settings.seed;
     nlohmann::ordered_json s;
     s["pieces"] = settings.points.empty() ? settings.pieces : int(settings.points.size());
@@ -64,14 +68,28 @@ std::string fractureJson(const FractureResult& result, const FractureSettings& s
         e["closed"] = p.closed;
         e["cell"] = p.cell;
         e["level"] = p.level;
+        if (!result.parts.empty()) {  // a building's pieces: the part each came from
+            e["part"] = p.part;
+            e["material"] = materialName(p.material);
+        }
         pieces.push_back(std::move(e));
+    }
+    if (!result.parts.empty()) {
+        nlohmann::ordered_json parts = nlohmann::ordered_json::array();
+        for (const PartResult& p : result.parts)
+            parts.push_back({{"kind", p.kind}, {"material", materialName(p.material)}, {"style", breakStyleName(p.style)},
+                             {"volume", p.volume}, {"triangles", p.triangles}, {"cells", p.cells}, {"pieces", p.pieces}});
+        j["parts"] = std::move(parts);
     }
     j["volume"] = total;
     j["merged"] = result.merged;
     j["pieces"] = std::move(pieces);
     nlohmann::ordered_json bonds = nlohmann::ordered_json::array();
-    for (const Bond& b : result.bonds)
-        bonds.push_back({{"a", b.a}, {"b", b.b}, {"area", b.area}, {"centroid", vec(b.centroid)}, {"normal", vec(b.normal)}});
+    for (const Bond& b : result.bonds) {
+        nlohmann::ordered_json e{{"a", b.a}, {"b", b.b}, {"area", b.area}, {"centroid", vec(b.centroid)}, {"normal", vec(b.normal)}};
+        if (b.strength > 0.0) e["strength"] = b.strength;
+        bonds.push_back(std::move(e));
+    }
     j["bonds"] = std::move(bonds);
     return j.dump(1) + "\n";
 }

@@ -78,6 +78,7 @@ std::optional<RawPiece> joined(const RawPiece& a, const RawPiece& b, double dens
     out.mesh.name = a.mesh.name;
     out.cell = std::min(a.cell, b.cell);
     out.level = std::min(a.level, b.level);
+    out.part = a.part;
     std::map<std::array<double, 3>, std::uint32_t> pointOf;
     auto append = [&](const RawPiece& p, const std::vector<char>& drop) {
         std::vector<std::uint32_t> vertexMap(p.mesh.positions.size(), UINT32_MAX);
@@ -139,6 +140,7 @@ RawPiece partPiece(const RawPiece& p, const std::vector<GridTriangle>& part, con
     out.mesh.name = p.mesh.name;
     out.cell = p.cell;
     out.level = p.level;
+    out.part = p.part;
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> vertexOf;  // (attributes, point)
     std::map<std::uint32_t, std::uint32_t> pointOf;
     for (const GridTriangle& t : part) {
@@ -238,6 +240,7 @@ std::size_t mergeSmallPieces(std::vector<RawPiece>& pieces, double minVolume, do
         for (const Bond& b : bonds) {
             if (b.a != smallest && b.b != smallest) continue;
             const std::size_t into = b.a == smallest ? b.b : b.a;
+            if (pieces[into].part != pieces[smallest].part) continue;
             std::optional<RawPiece> whole = joined(pieces[into], pieces[smallest], density);
             if (!whole) continue;
             pieces[into] = std::move(*whole);

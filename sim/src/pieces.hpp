@@ -30,6 +30,7 @@ struct RawPiece {
     std::vector<std::uint32_t> pointIndices;  // per triangle corner, into points
     std::int64_t cell = 0;                    // the cell that made it
     std::uint32_t level = 0;                  // 0, or the re-fracture level that made it
+    std::int32_t part = -1;                   // fractureParts: the part it was cut from
     MassProperties mass;                      // once rounded: centerOfMass is the pivot
     glm::dvec3 pivot{0.0};                    // once rounded: a float point, the node translation
 };
@@ -46,9 +47,9 @@ std::vector<RawPiece> roundForFiles(std::vector<RawPiece> pieces, double density
 // A bond for every pair of pieces whose cut faces overlap by more than `minArea` (m^2).
 std::vector<Bond> bondsBetween(std::span<const RawPiece> pieces, double minArea);
 
-// Merges pieces below `minVolume` (m^3), smallest first, into the neighbour they share most
-// area with: the faces between them go, which needs their shared triangles to coincide
-// corner for corner; a sliver that shares its faces with nobody that way stays as it is.
+// Merges pieces below `minVolume` (m^3), smallest first, into the neighbour of the same part
+// they share most area with: the faces between them go, which needs their shared triangles
+// to coincide corner for corner; a sliver that shares its faces with nobody that way stays.
 // Returns how many were merged.
 std::size_t mergeSmallPieces(std::vector<RawPiece>& pieces, double minVolume, double density, double minArea);
 

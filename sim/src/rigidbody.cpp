@@ -83,15 +83,43 @@ Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, doub
 // Pieces glued into one cluster (connected through unbroken bonds) move as one: they do
 // not collide with each other. Besides being right, this skips the narrow phase for the
 // thousands of neighbouring pairs in an intact structure, most of the cost of a step.
+// User indices of bodies that are not pieces.
+constexpr int kStatic = -1;   // ground plane, projectile
+constexpr int kSupport = -2;  // SimulationSettings::support
+constexpr int kCollider = -3; // SimulationSettings::colliders
+
 class ClusterDispatcher : public btCollisionDispatcher {
 public:
     using btCollisionDispatcher::btCollisionDispatcher;
-    std::vector<int> cluster;  // per piece (body user index); bodies that are not pieces have index -1
+    std::vector<int> cluster;  // per piece (body user index)
+    std::optional<Support> support;
 
+    // Bullet asks again at every step for every overlapping pair, so this may change with
+    // where the pieces are.
     bool needsCollision(const btCollisionObject* a, const btCollisionObject* b) override {
         const int i = a->getUserIndex(), j = b->getUserIndex();
         if (i >= 0 && j >= 0 && cluster[std::size_t(i)] == cluster[std::size_t(j)]) return false;
+        if (support && (i == kSupport || j == kSupport || i == kCollider || j == kCollider)) {
+            const btCollisionObject* piece = i >= 0 ? a : j >= 0 ? b : nullptr;
+            if (piece) {
+                const btVector3& p = piece->getWorldTransform().getOrigin();
+                const bool over = p.x() >= support->min.x && p.x() <= support->max.x && p.z() >= support->min.y &&
+                                  p.z() <= support->max.y;
+                if (over != (i == kSupport || j == kSupport)) return false;  // the support holds it, or the colliders do
+            }
+        }
         return btCollisionDispatcher::needsCollision(a, b);
+    }
+
+    // Contacts of pairs that no longer collide (a piece that left the support, or came over
+    // it) would stay in their manifolds and still push: empty them.
+    void dropStaleContacts() {
+        if (!support) return;
+        for (int m = 0; m < getNumManifolds(); ++m) {
+            btPersistentManifold* manifold = getManifoldByIndexInternal(m);
+            if (manifold->getNumContacts() > 0 && !needsCollision(manifold->getBody0(), manifold->getBody1()))
+                manifold->clearManifold();
+        }
     }
 };
 
@@ -378,6 +406,15 @@ void Simulation::addGroundAndColliders() {
         ci.m_restitution = btScalar(settings_.restitution);
         addBody(std::make_unique<btRigidBody>(ci), std::move(plane));
     }
+    if (settings_.support) {
+        const Support& s = *settings_.support;
+        auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 1, 0), btScalar(s.height));
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, plane.get());
+        ci.m_friction = btScalar(settings_.friction);
+        ci.m_restitution = btScalar(settings_.restitution);
+        addBody(std::make_unique<btRigidBody>(ci), std::move(plane)).setUserIndex(kSupport);
+        w_.dispatcher.support = s;
+    }
     for (const Mesh& m : settings_.colliders) {
         auto& vertices = w_.colliderVertices.emplace_back();
         auto& indices = w_.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
@@ -389,7 +426,7 @@ void Simulation::addGroundAndColliders() {
         btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
         ci.m_friction = btScalar(settings_.friction);
         w_.triangleArrays.push_back(std::move(array));
-        addBody(std::make_unique<btRigidBody>(ci), std::move(shape));
+        addBody(std::make_unique<btRigidBody>(ci), std::move(shape)).setUserIndex(kCollider);
     }
 }
 
@@ -471,6 +508,7 @@ void Simulation::launchProjectile() {
 
 // One fixed Bullet step, then the glue check, then the trigger when it is due.
 void Simulation::step() {
+    w_.dispatcher.dropStaleContacts();
     w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
     breakOverloadedGlue();
     ++step_;

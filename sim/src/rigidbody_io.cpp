@@ -121,6 +121,11 @@ FractureFolder loadFracture(const fs::path& dir) {
 
     FractureFolder out;
     out.seed = get<std::uint64_t>(j, "seed", jsonFile);
+    if (j.contains("input") && j["input"].is_object()) {
+        const nlohmann::json& input = j["input"];
+        if (input.contains("file") && input["file"].is_string()) out.input = input["file"].get<std::string>();
+        if (input.contains("building")) out.building = get<int>(input, "building", jsonFile);
+    }
     const auto pieces = get<nlohmann::json>(j, "pieces", jsonFile);
     if (!pieces.is_array() || pieces.empty()) throw InputError(format("{}: 'pieces' is empty", jsonFile.string()));
     for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -156,6 +161,9 @@ FractureFolder loadFracture(const fs::path& dir) {
         bond.centroid = b.contains("centroid") ? vec3(b, "centroid", jsonFile)
                                                : 0.5 * (out.pieces[bond.a].centerOfMass + out.pieces[bond.b].centerOfMass);
         if (!(bond.area >= 0.0)) throw InputError(format("{}: a bond has a negative area", jsonFile.string()));
+        if (b.contains("strength")) bond.strength = get<double>(b, "strength", jsonFile);
+        if (!(bond.strength >= 0.0) || !std::isfinite(bond.strength))
+            throw InputError(format("{}: a bond's strength must be a number of pascals, not negative", jsonFile.string()));
         out.bonds.push_back(bond);
     }
 
@@ -198,6 +206,10 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
     j["triggers"] = std::move(triggers);
     j["ground"] = {{"enabled", settings.ground}, {"height", result.groundHeight}};
     j["colliders"] = settings.colliders.size();
+    if (settings.support)
+        j["support"] = {{"height", settings.support->height},
+                        {"min", {settings.support->min.x, settings.support->min.y}},
+                        {"max", {settings.support->max.x, settings.support->max.y}}};
     j["glue"] = {{"strength", settings.strength},
                  {"variation", settings.strengthVariation},
                  {"bonds", result.bonds},

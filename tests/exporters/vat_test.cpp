@@ -357,6 +357,44 @@ void expectHeader(const Exr& exr, bool half, int width, int height) {
     EXPECT_EQ(exr.lineOrder, Imf::INCREASING_Y);
 }
 
+// Per texel: the dropped-component code, and the signed turns to the next frame, for the
+// texels of every piece (read at the piece's first vertex, `firstVertex`).
+void checkRotationTexels(const Animation& animation, const Decoder& decode, const std::vector<std::size_t>& firstVertex,
+                         VatPreset preset, bool half) {
+    std::set<int> cases;
+    bool negativeTurns = false, overQuarterTurn = false;
+    for (int j = 0; j < kPieces; ++j) {
+        for (int k = 0; k < kFrames; ++k) {
+            SCOPED_TRACE("piece " + std::to_string(j) + " frame " + std::to_string(k));
+            const Decoded d = decode(firstVertex[std::size_t(j)], k);
+            EXPECT_EQ(d.positionAlpha, 0.25f * float(d.maxComponent));
+            cases.insert(d.maxComponent);
+            if (k + 1 == kFrames) {
+                EXPECT_EQ(d.turns, 0.0f);
+                continue;
+            }
+            const Decoded next = decode(firstVertex[std::size_t(j)], k + 1);
+            const double angle = angleBetween(toEngine(preset, animation.relative(k, j)),
+                                              toEngine(preset, animation.relative(k + 1, j)));
+            EXPECT_NEAR(std::abs(d.turns), angle / (2.0 * kPi), half ? 1e-3 : 1e-5);
+            if (angle > 1e-3) {
+                const float dot = glm::dot(d.q, next.q);
+                EXPECT_EQ(d.turns < 0.0f, dot < 0.0f) << "the sign is not the hemisphere of the next quaternion";
+            }
+            negativeTurns = negativeTurns || d.turns < 0.0f;
+            overQuarterTurn = overQuarterTurn || std::abs(d.turns) > 0.25f;
+        }
+    }
+    EXPECT_EQ(cases, (std::set<int>{0, 1, 2, 3})) << "the animation no longer exercises every packing case";
+    // A tie between the largest components drops the first in (w, x, y, z) order.
+    const glm::dquat tie = animation.relative(6, 4);
+    ASSERT_EQ(std::abs(tie.x), std::abs(tie.y));
+    ASSERT_GT(std::abs(tie.x), std::max(std::abs(tie.w), std::abs(tie.z)));
+    EXPECT_EQ(decode(firstVertex[4], 6).maxComponent, 1);
+    EXPECT_TRUE(negativeTurns) << "no frame pair with a hemisphere flip";
+    EXPECT_TRUE(overQuarterTurn) << "no frame pair turning more than 90°";
+}
+
 // Bakes the animation with `preset`, decodes every vertex of every piece at every frame
 // as the engine would and compares with the animation. Float32 keeps every vertex within
 // 1 mm (0.1 cm in Unreal's centimetres: the same distance); half within the error the
@@ -460,39 +498,7 @@ void checkDecodesTheAnimation(VatPreset preset, bool half) {
     EXPECT_LE(worst, tolerance) << worstWhere;
     EXPECT_LE(worstRest, half ? tolerance : 1e-5 * s) << "frame 0 differs from the rest mesh";
 
-    // Per texel: the dropped-component code, and the signed turns to the next frame.
-    std::set<int> cases;
-    bool negativeTurns = false, overQuarterTurn = false;
-    for (int j = 0; j < kPieces; ++j) {
-        for (int k = 0; k < kFrames; ++k) {
-            SCOPED_TRACE("piece " + std::to_string(j) + " frame " + std::to_string(k));
-            const Decoded d = decode(firstVertex[std::size_t(j)], k);
-            EXPECT_EQ(d.positionAlpha, 0.25f * float(d.maxComponent));
-            cases.insert(d.maxComponent);
-            if (k + 1 == kFrames) {
-                EXPECT_EQ(d.turns, 0.0f);
-                continue;
-            }
-            const Decoded next = decode(firstVertex[std::size_t(j)], k + 1);
-            const double angle = angleBetween(toEngine(preset, animation.relative(k, j)),
-                                              toEngine(preset, animation.relative(k + 1, j)));
-            EXPECT_NEAR(std::abs(d.turns), angle / (2.0 * kPi), half ? 1e-3 : 1e-5);
-            if (angle > 1e-3) {
-                const float dot = glm::dot(d.q, next.q);
-                EXPECT_EQ(d.turns < 0.0f, dot < 0.0f) << "the sign is not the hemisphere of the next quaternion";
-            }
-            negativeTurns = negativeTurns || d.turns < 0.0f;
-            overQuarterTurn = overQuarterTurn || std::abs(d.turns) > 0.25f;
-        }
-    }
-    EXPECT_EQ(cases, (std::set<int>{0, 1, 2, 3})) << "the animation no longer exercises every packing case";
-    // A tie between the largest components drops the first in (w, x, y, z) order.
-    const glm::dquat tie = animation.relative(6, 4);
-    ASSERT_EQ(std::abs(tie.x), std::abs(tie.y));
-    ASSERT_GT(std::abs(tie.x), std::max(std::abs(tie.w), std::abs(tie.z)));
-    EXPECT_EQ(decode(firstVertex[4], 6).maxComponent, 1);
-    EXPECT_TRUE(negativeTurns) << "no frame pair with a hemisphere flip";
-    EXPECT_TRUE(overQuarterTurn) << "no frame pair turning more than 90°";
+    checkRotationTexels(animation, decode, firstVertex, preset, half);
 }
 
 // The first line of `text` that contains `key` (empty if none).

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <queue>
 #include <set>
+#include <tuple>
 
 namespace dawnforge::procgen {
 namespace {
@@ -63,16 +64,53 @@ const std::vector<Building>& buildings() {
     return all;
 }
 
-// The mesh without the one-sided surfaces (glass panes and door leaves), which are sheets.
-Mesh solidsOnly(const Mesh& mesh) {
-    Mesh out;
-    out.positions = mesh.positions;
-    for (std::size_t t = 0; t < mesh.indices.size(); t += 3) {
-        const std::uint8_t m = mesh.materialIds[mesh.indices[t]];
-        if (m == kGlass || m == kWood) continue;
-        out.indices.insert(out.indices.end(), mesh.indices.begin() + t, mesh.indices.begin() + t + 3);
+// Whether p lies inside the closed mesh `m` (ray parity along a skewed direction, so that
+// the ray does not run along the axis-aligned faces buildings are full of).
+bool inside(const Mesh& m, const glm::dvec3& p) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(0.5773, 0.6123, 0.5402));
+    int crossings = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+        const glm::dvec3 a(m.positions[m.indices[t]]), b(m.positions[m.indices[t + 1]]), c(m.positions[m.indices[t + 2]]);
+        const glm::dvec3 e1 = b - a, e2 = c - a, q = glm::cross(dir, e2);
+        const double det = glm::dot(e1, q);
+        if (std::abs(det) < 1e-15) continue;
+        const glm::dvec3 s = p - a;
+        const double u = glm::dot(s, q) / det;
+        const glm::dvec3 r = glm::cross(s, e1);
+        const double v = glm::dot(dir, r) / det, t1 = glm::dot(e2, r) / det;
+        if (u >= 0 && v >= 0 && u + v <= 1 && t1 > 0) ++crossings;
     }
-    return out;
+    return crossings % 2 == 1;
+}
+
+double distanceToTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    // Ericson, Real-Time Collision Detection, 5.1.5.
+    const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return glm::length(ap);
+    const glm::dvec3 bp = p - b;
+    const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return glm::length(bp);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
+    const glm::dvec3 cp = p - c;
+    const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return glm::length(cp);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    const double denom = 1.0 / (va + vb + vc);
+    return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
+}
+
+double distanceToSurface(const Mesh& m, const glm::dvec3& p) {
+    double best = INFINITY;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3)
+        best = std::min(best, distanceToTriangle(p, glm::dvec3(m.positions[m.indices[t]]),
+                                                 glm::dvec3(m.positions[m.indices[t + 1]]),
+                                                 glm::dvec3(m.positions[m.indices[t + 2]])));
+    return best;
 }
 
 TEST(Building, EveryLotShapeGetsABuilding) {
@@ -93,7 +131,7 @@ TEST(Building, WallsSlabsStairsAndRoofsAreClosed) {
     for (const Building& b : buildings()) {
         validateMeshData(b.lod0, "lod0");
         validateMeshData(b.lod1, "lod1");
-        const MeshReport r0 = inspectMesh(solidsOnly(b.lod0));
+        const MeshReport r0 = inspectMesh(b.lod0);
         EXPECT_EQ(r0.boundaryEdges, 0u) << "building on lot " << b.lot << " floors " << b.floors;
         if (r0.boundaryEdges && !r0.openEdges.empty())
             ADD_FAILURE() << "open edge at " << r0.openEdges[0].first.x << "," << r0.openEdges[0].first.y << ","
@@ -103,6 +141,72 @@ TEST(Building, WallsSlabsStairsAndRoofsAreClosed) {
         const MeshReport r1 = inspectMesh(shell);
         EXPECT_EQ(r1.boundaryEdges, 0u) << "LOD1 of building on lot " << b.lot;
         EXPECT_EQ(r1.degenerateTriangles, 0u);
+    }
+}
+
+// Every triangle of LOD0 is in one part, in order; each part is one closed, manifold,
+// outward solid of the material its kind says.
+TEST(Building, LodZeroIsMadeOfClosedParts) {
+    for (const Building& b : buildings()) {
+        std::uint32_t next = 0;
+        std::set<PartKind> kinds;
+        for (const BuildingPart& part : b.parts) {
+            ASSERT_EQ(part.firstTriangle, next) << "building on lot " << b.lot;
+            next += part.triangles;
+            kinds.insert(part.kind);
+            const Mesh mesh = partMesh(b.lod0, part);
+            const MeshReport r = inspectMesh(mesh);
+            EXPECT_TRUE(r.closed && r.manifold && r.outwardOriented && !r.selfIntersecting)
+                << partKindName(part.kind) << " from triangle " << part.firstTriangle << " of building on lot " << b.lot;
+            EXPECT_EQ(r.degenerateTriangles, 0u);
+            EXPECT_EQ(r.components, 1u) << partKindName(part.kind) << " from triangle " << part.firstTriangle;
+            ASSERT_TRUE(r.volume);
+            EXPECT_GT(*r.volume, 0.0);
+            if (part.kind == PartKind::Window) EXPECT_EQ(part.material, kGlass);
+            if (part.kind == PartKind::Door) EXPECT_EQ(part.material, kWood);
+        }
+        EXPECT_EQ(next, b.lod0.triangleCount()) << "building on lot " << b.lot;
+        for (PartKind k : {PartKind::Wall, PartKind::Slab, PartKind::InteriorWall, PartKind::Window, PartKind::Door,
+                           PartKind::Roof})
+            EXPECT_TRUE(kinds.count(k)) << partKindName(k) << " missing in building on lot " << b.lot;
+        EXPECT_EQ(kinds.count(PartKind::Stairs), b.floors > 1 ? 1u : 0u);
+        EXPECT_EQ(partKindFromName(partKindName(PartKind::InteriorWall)), PartKind::InteriorWall);
+    }
+}
+
+// Parts touch but never overlap: no corner of a part lies inside another one by more than
+// 1 mm. (Every overlap buildings ever had shows this way: a wall through a slab, a balcony
+// through a band, railings crossing, a tower's walls in its terrace, an interior wall's end
+// through the exterior wall.)
+TEST(Building, PartsTouchButNeverOverlap) {
+    for (const Building& b : buildings()) {
+        std::vector<Mesh> parts;
+        std::vector<Bounds> bounds;
+        std::vector<std::set<std::tuple<float, float, float>>> corners;
+        for (const BuildingPart& part : b.parts) {
+            parts.push_back(partMesh(b.lod0, part));
+            bounds.push_back(computeBounds(parts.back().positions));
+            corners.emplace_back();
+            for (const glm::vec3& v : parts.back().positions) corners.back().emplace(v.x, v.y, v.z);
+        }
+        int reported = 0;
+        for (std::size_t i = 0; i < parts.size() && reported < 5; ++i)
+            for (std::size_t j = 0; j < parts.size() && reported < 5; ++j) {
+                if (i == j) continue;
+                const Bounds& bi = bounds[i];
+                const Bounds& bj = bounds[j];
+                if (glm::any(glm::lessThan(bi.max, bj.min)) || glm::any(glm::lessThan(bj.max, bi.min))) continue;
+                for (const auto& [x, y, z] : corners[i]) {
+                    const glm::dvec3 p(x, y, z);
+                    if (glm::any(glm::lessThan(p, bj.min + 1e-3)) || glm::any(glm::greaterThan(p, bj.max - 1e-3))) continue;
+                    if (!inside(parts[j], p) || distanceToSurface(parts[j], p) < 1e-3) continue;
+                    ADD_FAILURE() << partKindName(b.parts[i].kind) << " " << i << " has a corner at " << p.x << ","
+                                  << p.y << "," << p.z << " inside " << partKindName(b.parts[j].kind) << " " << j
+                                  << " of building on lot " << b.lot << " (" << b.floors << " floors)";
+                    ++reported;
+                    break;
+                }
+            }
     }
 }
 

@@ -27,7 +27,8 @@ const std::string kFull = R"({
   "time_of_day": 17.5, "time": 3.0, "fps": 24,
   "ocean": { "level": -1.25, "grid": [96, 80], "shore_depth": 6.5 },
   "destruction": [
-    { "vat": "vat", "name": "tower_native", "position": [1, 2.5, -3], "yaw_degrees": 90, "start_time": 1.0 },
+    { "vat": "vat", "name": "tower_native", "position": [1, 2.5, -3], "yaw_degrees": 90, "start_time": 1.0,
+      "replaces": 14 },
     { "vat": "/data/other_vat", "name": "bridge" }
   ],
   "cameras": [
@@ -65,6 +66,8 @@ TEST(SceneFile, ParsesEveryValue) {
     EXPECT_EQ(s.destruction[0].position, glm::dvec3(1, 2.5, -3));
     EXPECT_EQ(s.destruction[0].yawDegrees, 90.0);
     EXPECT_EQ(s.destruction[0].startTime, 1.0);
+    EXPECT_EQ(s.destruction[0].replaces, 14);
+    EXPECT_FALSE(s.destruction[1].replaces);
     EXPECT_EQ(s.destruction[1].vatDir, std::filesystem::path("/data/other_vat"));
     EXPECT_EQ(s.destruction[1].position, glm::dvec3(0));
     EXPECT_EQ(s.destruction[1].yawDegrees, 0.0);
@@ -126,6 +129,7 @@ TEST(SceneFile, RoundTrips) {
             EXPECT_EQ(back.destruction[i].position, s.destruction[i].position);
             EXPECT_EQ(back.destruction[i].yawDegrees, s.destruction[i].yawDegrees);
             EXPECT_EQ(back.destruction[i].startTime, s.destruction[i].startTime);
+            EXPECT_EQ(back.destruction[i].replaces, s.destruction[i].replaces);
         }
         ASSERT_EQ(back.cameras.size(), s.cameras.size());
         for (std::size_t i = 0; i < s.cameras.size(); ++i) {
@@ -179,6 +183,8 @@ TEST(SceneFile, RejectsBadValuesNamingTheKey) {
         {edited(R"("position": [1, 2.5, -3])", R"("position": [1, 2.5])"), "destruction[0].position"},
         {edited(R"("position": [1, 2.5, -3])", R"("position": [1, "a", 3])"), "destruction[0].position[1]"},
         {edited(R"("start_time": 1.0)", R"("start_time": null)"), "destruction[0].start_time"},
+        {edited(R"("replaces": 14)", R"("replaces": -1)"), "destruction[0].replaces"},
+        {edited(R"("replaces": 14)", R"("replaces": "building_00014")"), "destruction[0].replaces"},
         {edited(R"("city": "city")", R"("city": 7)"), "city"},
         {R"({"format": "dawnforge.scene", "version": 1, "cameras": {}})", "\"cameras\" must be an array"},
     };

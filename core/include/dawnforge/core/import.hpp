@@ -1,6 +1,7 @@
 #pragma once
-// Mesh import into core Meshes: OBJ (tinyobjloader), glTF 2.0 / GLB (tinygltf) and every
-// other format Assimp reads (FBX, Collada, STL, PLY, OFF, 3DS, ...), in metres, +Y up.
+// Mesh import into core Meshes: OBJ (tinyobjloader), glTF 2.0 / GLB (tinygltf), OFF (CGAL's
+// reader) and every other format Assimp reads (FBX, Collada, STL, PLY, 3DS, ...), in metres,
+// +Y up.
 #include <dawnforge/core/mesh.hpp>
 
 #include <glm/mat4x4.hpp>
@@ -13,7 +14,7 @@ namespace dawnforge {
 
 // Reads a whole file as one mesh in world space (node transforms applied, OBJ groups
 // merged, polygons triangulated, points and lines skipped). Chooses the reader by
-// extension: .obj, .gltf, .glb, or any extension Assimp knows. FBX and Collada units and up
+// extension: .obj, .gltf, .glb, .off, or any extension Assimp knows. FBX and Collada units and up
 // axes are converted to metres and +Y up; STL, PLY, OFF and OBJ coordinates are taken as
 // metres as they are. Only glTF carries material IDs (COLOR_0); other formats leave
 // materialIds empty. Throws InputError naming the file if it is missing, empty,
@@ -30,7 +31,7 @@ struct MeshNode {
 };
 
 // Every node of a file that shows a mesh, in hierarchy order (depth first from the
-// default scene's roots); an OBJ file is one node named after the file. Each node's mesh
+// default scene's roots); an OBJ or OFF file is one node named after the file. Each node's mesh
 // gets the checks of loadMesh.
 std::vector<MeshNode> loadMeshNodes(const std::filesystem::path& file);
 

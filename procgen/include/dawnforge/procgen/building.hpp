@@ -17,6 +17,8 @@
 #include <dawnforge/procgen/roof.hpp>
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace dawnforge::procgen {
@@ -50,6 +52,20 @@ struct Window {
     bool door = false;       // a balcony door
 };
 
+// What a closed solid of LOD0 is: fracture breaks each part its own way (by material) and
+// glues the parts where they touch.
+enum class PartKind : std::uint8_t { Wall, Trim, Slab, InteriorWall, Stairs, Balcony, Railing, Window, Door, Roof };
+const char* partKindName(PartKind kind);  // "wall", "trim", "slab", "interior_wall", "stairs", "balcony", "railing", "window", "door", "roof"
+std::optional<PartKind> partKindFromName(std::string_view name);
+
+// One closed solid of LOD0: triangles [firstTriangle, firstTriangle + triangles) of
+// Building::lod0. Parts touch (share faces) but never overlap.
+struct BuildingPart {
+    PartKind kind = PartKind::Wall;
+    std::uint8_t material = 0;  // what it is made of (core/materials.hpp), not its surface: a slab is concrete
+    std::uint32_t firstTriangle = 0, triangles = 0;
+};
+
 struct Building {
     int id = 0;                 // = its lot's id
     int lot = 0;
@@ -65,8 +81,13 @@ struct Building {
     std::vector<Window> windows;
     std::vector<int> roomsPerFloor;
     Mesh lod0;                  // walls, windows, doors, balconies, trims, roof, interiors
+    std::vector<BuildingPart> parts;  // LOD0 as closed solids, in triangle order, every triangle in one
     Mesh lod1;                  // facades and roof only
 };
+
+// Part `part` of `lod0` on its own: its triangles, and the vertices they use with all their
+// attributes, in order. Throws InputError when the part's triangles are not in the mesh.
+Mesh partMesh(const Mesh& lod0, const BuildingPart& part);
 
 // The building on `lot`, or std::nullopt-like empty building (floors == 0) when the lot
 // cannot hold one (too small once set back). Deterministic in (lot, recipe, seed).

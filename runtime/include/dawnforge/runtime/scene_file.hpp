@@ -14,7 +14,9 @@
 //                        "name": "tower_native",         required: the VAT's <name> (<name>_data.json, ...)
 //                        "position": [0, 0, 0],          where the VAT's origin goes (m); default [0, 0, 0]
 //                        "yaw_degrees": 0,               turn about +Y; default 0
-//                        "start_time": 1.0 } ],          scene time (s) of the VAT's frame 0; default 0
+//                        "start_time": 1.0,              scene time (s) of the VAT's frame 0; default 0
+//                        "replaces": 5 } ],              a city building (its id): drawn until start_time, the VAT
+//                                                        from then on (none before); default none
 //     "cameras": [ { "name": "overview",                 required, unique, not empty; the first is the default
 //                    "position": [0, 40, 120],           default [0, 0, 0]
 //                    "target": [0, 0, 0],                default [0, 0, -1]; must differ from position
@@ -54,6 +56,7 @@ struct DestructionInstance {
     glm::dvec3 position{0.0};
     double yawDegrees = 0.0;
     double startTime = 0.0;
+    std::optional<int> replaces;  // a building of the city (its id) drawn until startTime, then not
 };
 
 struct SceneFile {

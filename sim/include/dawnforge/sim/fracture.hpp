@@ -1,8 +1,9 @@
 #pragma once
 // Voronoi fracture of a closed mesh (CGAL inside; plain data outside).
 //
-// Seeds are sampled uniformly inside the volume (TetGen tetrahedralisation, tetrahedra
-// chosen by volume), optionally denser around an impact point, or given by the caller.
+// Seeds are sampled uniformly inside the volume (points drawn in the grid cells that lie
+// inside the mesh or meet its surface, kept when CGAL's exact inside test says so),
+// optionally denser around an impact point, or given by the caller.
 // Each seed's Voronoi cell (bisector half-spaces of its Delaunay neighbours, clipped to
 // the mesh's bounding box) is intersected with the mesh by CGAL corefinement with exact
 // predicates. Cells are processed in a bounding-box hierarchy: each level intersects the
@@ -43,6 +44,8 @@ struct FractureSettings {
     double roughness = 0.0;                     // > 0: noisy cut surfaces of this amplitude (m), via OpenVDB level sets
     double roughScale = 0.0;                    // noise wavelength (m); 0: four times the roughness
     double voxelSize = 0.0;                     // level-set voxel (m); 0: half the roughness, within diag/400..diag/50
+    glm::dvec3 grain{0.0, 1.0, 0.0};            // cells are stretched along this direction...
+    double stretch = 1.0;                       // ...this many times (splinters of wood); 1: round cells
 };
 
 struct FracturePiece {
@@ -51,6 +54,8 @@ struct FracturePiece {
     MassProperties mass;                        // centre of mass in world space
     std::uint32_t cell = 0;                     // the seed (Voronoi cell) it came from
     std::uint32_t level = 0;                    // 0, or the re-fracture level that made it
+    std::int32_t part = -1;                     // fractureParts: the part it came from; -1 otherwise
+    std::uint8_t material = 0;                  // fractureParts: what its part is made of
     bool closed = false;
 };
 
@@ -59,11 +64,27 @@ struct Bond {
     double area = 0.0;                          // shared cut-face area (m^2)
     glm::dvec3 centroid{0.0};                   // of the shared face
     glm::dvec3 normal{0.0};                     // unit, pointing from a to b
+    double strength = 0.0;                      // Pa; 0: SimulationSettings::strength decides
+};
+
+// One part of an assembly as fractureParts broke it.
+enum class BreakStyle : std::uint8_t { Voronoi, Shards, Splinters };
+const char* breakStyleName(BreakStyle style);  // "voronoi", "shards", "splinters"
+
+struct PartResult {
+    std::string kind;                           // as given ("wall", "window", ...)
+    std::uint8_t material = 0;                  // as given
+    BreakStyle style = BreakStyle::Voronoi;
+    double volume = 0.0;                        // m^3, of the part's mesh
+    std::size_t triangles = 0;                  // of the part's mesh
+    std::size_t pieces = 0;                     // it broke into
+    std::size_t cells = 0;                      // Voronoi cells (seeds) it was given
 };
 
 struct FractureResult {
     std::vector<FracturePiece> pieces;
     std::vector<Bond> bonds;
+    std::vector<PartResult> parts;              // fractureParts: per part, in order; empty otherwise
     std::vector<glm::dvec3> seeds;              // level 0 seeds
     double inputVolume = 0.0;
     std::size_t inputTriangles = 0;

@@ -14,7 +14,10 @@ Scene fractureScene(const FractureResult& result);
 
 // fracture.json: input (file, triangles, volume), seed, settings, and per piece id, name,
 // volume, mass, center_of_mass, inertia (about the centre of mass), triangles, closed;
-// plus bonds between touching pieces: a, b, area, centroid, normal.
-std::string fractureJson(const FractureResult& result, const FractureSettings& settings, std::string_view inputFile);
+// plus bonds between touching pieces: a, b, area, centroid, normal. A building's fracture
+// (fractureParts; `building` >= 0, `inputFile` its city folder) adds input.building, the
+// parts, each piece's part and material, and each bond's strength.
+std::string fractureJson(const FractureResult& result, const FractureSettings& settings, std::string_view inputFile,
+                         int building = -1);
 
 }  // namespace dawnforge::sim

@@ -8,6 +8,7 @@
 #include <dawnforge/sim/fracture.hpp>
 
 #include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -48,6 +49,16 @@ struct Explosion {
     double impulse = 5e5;    // N·s at the centre
 };
 
+// A flat floor under part of the scene: a horizontal plane at `height` that holds the pieces
+// whose centre of mass is over [min, max] (x, z), where the colliders let them through; over
+// the rest, the colliders hold them and the plane lets them through. A building stands on
+// it (a glued structure resting on a triangle mesh is shaken by its contacts), and its
+// debris falls onto the city's ground around it.
+struct Support {
+    double height = 0.0;
+    glm::dvec2 min{0.0}, max{0.0};  // x, z
+};
+
 struct SimulationSettings {
     int frames = 120;                 // frame 0 is the rest pose
     double fps = 30.0;
@@ -70,6 +81,7 @@ struct SimulationSettings {
     std::optional<Explosion> explosion;
     bool collapse = false;            // every bond breaks at the trigger time
     std::vector<Mesh> colliders;      // static triangle meshes, world space
+    std::optional<Support> support;   // a floor under part of the scene (the colliders give way there)
 };
 
 struct SimulationResult {

@@ -16,8 +16,10 @@ namespace dawnforge::sim {
 
 struct FractureFolder {
     std::vector<RigidPiece> pieces;  // in fracture.json order; meshes from fragments.glb
-    std::vector<Bond> bonds;
+    std::vector<Bond> bonds;         // with their own strength where fracture.json gives one
     std::uint64_t seed = 0;
+    std::string input;               // input.file as given to fracture (a city folder for a building)
+    int building = -1;               // input.building: the city building it is, or -1
 };
 
 // Reads DIR/fracture.json and DIR/fragments.glb and checks that they agree (same pieces,
