@@ -52,7 +52,7 @@ printf '%-22s %8s %10s %10s %7s\n' input pieces blender_s dawnforge_s ratio
 for case in "sphere 100" "sphere 500" "armadillo 50" "armadillo 100"; do
   read -r name pieces <<<"$case"
   blender_s=$(blender -b --factory-startup --python-exit-code 1 --python "$peers/blender_cellfracture.py" -- \
-    "$work/$name.obj" "$pieces" 1 - 2>/dev/null | tail -1 | python3 -c 'import json,sys; print(json.load(sys.stdin)["seconds"])')
+    "$work/$name.obj" "$pieces" 1 - 2>/dev/null | grep "^{\"tool\"" | python3 -c 'import json,sys; print(json.load(sys.stdin)["seconds"])')
   ours=$(python3 -c 'import subprocess, sys, time
 t = time.monotonic(); subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL); print(time.monotonic() - t)' \
     "$dawnforge" --quiet fracture "$work/$name.obj" -o "$work/out-$name-$pieces" --pieces "$pieces")
