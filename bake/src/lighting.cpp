@@ -631,8 +631,11 @@ private:
         scene_->occluded(sc.shadow, sc.blocked);
         rayCount_ += sc.rays.size() + sc.shadow.size();
         float sun[kChunkTexels] = {}, lamp[kChunkTexels] = {};
-        for (std::size_t k = 0; k < sc.shadow.size(); ++k)
-            if (!sc.blocked[k]) (sc.owner[k] & 1u ? lamp : sun)[sc.owner[k] >> 1] += sc.weight[k];
+        for (std::size_t k = 0; k < sc.shadow.size(); ++k) {
+            if (sc.blocked[k]) continue;
+            float* light = (sc.owner[k] & 1u) ? lamp : sun;  // a pointer: UBSan misreads a conditional of arrays
+            light[sc.owner[k] >> 1] += sc.weight[k];
+        }
         const float aoRadius = float(settings_.aoRadius);
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             std::uint32_t sky = 0, open = 0, back = 0;
