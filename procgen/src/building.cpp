@@ -92,6 +92,7 @@ namespace {
 
 constexpr double kRiser = 0.2;          // stairs: target step height
 constexpr double kMinTread = 0.23;      // with kRiser: about 41 degrees, steep but a stair
+constexpr double kHeadroom = 2.0;       // stairs: clear height under the slab above a step
 constexpr double kStairWidth = 1.1;
 constexpr double kGlassRecess = 0.08;   // glass sits this far behind the outer face
 constexpr double kGlassThickness = 0.02;
@@ -319,6 +320,7 @@ struct Section {
 
 struct StairFlight {
     double footV = 0, endV = 0, tread = 0;  // frame v of the flight's foot and top; step depth
+    double openingV = 0;                    // the slab above is open from here to endV
 };
 
 struct BuildContext {
@@ -345,6 +347,10 @@ StairFlight stairFlight(const BuildContext& ctx, int floor) {
     flight.footV = start + ir.doorWidth + 0.8;
     flight.tread = std::max(kMinTread, (length - ir.doorWidth - 1.0) / risers);
     flight.endV = flight.footV + risers * flight.tread;
+    // The slab above opens only where a step has less than the headroom under it, so the
+    // next flight's foot, right above this one's, stands on that slab (and is glued to it).
+    const double clear = rise - ir.slabThickness - kHeadroom;
+    flight.openingV = flight.footV + std::max(2, static_cast<int>(std::floor(clear / (rise / risers)))) * flight.tread;
     return flight;
 }
 
@@ -779,7 +785,7 @@ void appendFloorSlabs(const BuildContext& ctx, const Storey& storey, std::span<c
             continue;
         }
         const StairFlight below = stairFlight(ctx, storey.floor - 1);
-        for (const Polygon2& part : {clipStrip(piece.polygon, f.v, -1e30, vOrigin + below.footV - 0.05),
+        for (const Polygon2& part : {clipStrip(piece.polygon, f.v, -1e30, vOrigin + below.openingV),
                                      clipStrip(piece.polygon, f.v, vOrigin + below.endV, 1e30)})
             if (part.size() >= 3 && signedArea(part) > 0.05) slab(part);
     }
