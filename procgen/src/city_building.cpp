@@ -132,8 +132,9 @@ CityBuilding loadCityBuilding(const std::filesystem::path& cityDir, int id, doub
         const bool lod1 = node.name.size() > 5 && node.name.ends_with("_lod1") && node.name.starts_with("building_");
         if (node.name.starts_with("ground_")) {
             Mesh ground = toWorld(node);
-            if (near(computeBounds(ground.positions), out.bounds, neighbourRadius))
-                out.ground.push_back(nearTriangles(ground, out.bounds, neighbourRadius));
+            if (!near(computeBounds(ground.positions), out.bounds, neighbourRadius)) continue;
+            Mesh nearby = nearTriangles(ground, out.bounds, neighbourRadius);
+            if (!nearby.indices.empty()) out.ground.push_back(std::move(nearby));
         }
         else if (lod1 && node.name != out.name + "_lod1") {
             Mesh shell = toWorld(node);

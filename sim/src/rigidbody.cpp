@@ -232,7 +232,7 @@ double ccdSize(const Hull& hull) {
 // Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond breaks
 // when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending of a round
 // section of the same area A, radius r, M about the anchor) exceeds what it carries at
-// rest (measureRestLoads) by more than its strength. Bullet's own impulse threshold is
+// rest (Simulation::restLoads) by more than its strength. Bullet's own impulse threshold is
 // not used: it compares each solver row alone and mixes N·s with N·m·s, so small bonds
 // under bending broke at any strength. Pieces of one glued cluster do not collide
 // (ClusterDispatcher); once a break splits the cluster, they do.
@@ -252,14 +252,15 @@ struct Glue {
 class Simulation {
 public:
     Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds, const SimulationSettings& settings,
-               PieceShapes shapes);
-    SimulationResult run(const ProgressFn& progress);
+               const PieceShapes& shapes);
+    std::vector<double> restLoads();
+    SimulationResult run(const ProgressFn& progress, std::span<const double> restLoads);
 
 private:
     void addPieces();
     void addGlue();
     void addGroundAndColliders();
-    void measureRestLoads();
+    void buildWorld();
     void trigger();
     void collapse();
     void explode();
@@ -282,7 +283,7 @@ private:
     const std::size_t n_;
     const double dt_;          // one substep
     const long triggerStep_;   // the substep after which the trigger fires (0: before the first)
-    PieceShapes shapes_;
+    const PieceShapes& shapes_;
     World w_;
     SimulationResult result_;
     std::vector<BodyInfo> info_;            // per piece
@@ -300,10 +301,10 @@ private:
 };
 
 Simulation::Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds,
-                       const SimulationSettings& settings, PieceShapes shapes)
+                       const SimulationSettings& settings, const PieceShapes& shapes)
     : pieces_(pieces), bonds_(bonds), settings_(settings), n_(pieces.size()),
       dt_(1.0 / settings.fps / settings.substeps),
-      triggerStep_(std::lround(std::ceil(settings.triggerTime / dt_ - 1e-9))), shapes_(std::move(shapes)),
+      triggerStep_(std::lround(std::ceil(settings.triggerTime / dt_ - 1e-9))), shapes_(shapes),
       recorded_(n_), path_(n_), travelled_(n_) {
     w_.world->setGravity(bt(settings_.gravity));
     btContactSolverInfo& solverInfo = w_.world->getSolverInfo();
@@ -315,16 +316,47 @@ Simulation::Simulation(std::span<const RigidPiece> pieces, std::span<const Bond>
     result_.fps = settings_.fps;
     result_.pieces = n_;
     result_.groundHeight = settings_.groundHeight.value_or(shapes_.lo.y);
-    result_.transforms.resize(std::size_t(settings_.frames) * n_ * 7);
-    result_.turns.assign(std::size_t(settings_.frames) * n_, 0.0f);
 }
 
-SimulationResult Simulation::run(const ProgressFn& progress) {
+// Pieces in piece order, glue in bond order, then the ground and colliders.
+void Simulation::buildWorld() {
     addPieces();
     addGlue();
     updateClusters();
     addGroundAndColliders();
-    if (!glue_.empty()) measureRestLoads();
+}
+
+// What each bond carries to hold the structure up at rest. A rigid solver spreads a static
+// load over redundant joints in no physical proportion (small bonds can carry most of it,
+// and the share swings while the structure settles), so a bond breaks on the stress above
+// this, not on the stress itself. This world runs the real run's first steps with nothing
+// breaking, up to the trigger, or with none until every piece has fallen asleep (at most
+// 2 s). The real run repeats them exactly, as Bullet is deterministic: no bond breaks
+// before the trigger, and a structure left alone carries, asleep, what it carried when it
+// fell asleep. A quarter more covers one that never quite sleeps.
+std::vector<double> Simulation::restLoads() {
+    const bool triggered = settings_.collapse || settings_.explosion || settings_.projectile;
+    const long steps = triggered ? triggerStep_ : std::lround(2.0 / dt_);
+    buildWorld();
+    std::vector<double> rest(glue_.size(), 0.0);
+    const auto awake = [&] {
+        for (std::size_t i = 0; i < n_; ++i)
+            if (w_.bodies[i]->isActive()) return true;
+        return false;
+    };
+    for (long s = 0; s < steps && awake(); ++s) {
+        w_.dispatcher.dropStaleContacts();
+        w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
+        for (std::size_t i = 0; i < glue_.size(); ++i) rest[i] = std::max(rest[i], 1.25 * glueStress(i));
+    }
+    return rest;
+}
+
+SimulationResult Simulation::run(const ProgressFn& progress, std::span<const double> restLoads) {
+    result_.transforms.resize(std::size_t(settings_.frames) * n_ * 7);
+    result_.turns.assign(std::size_t(settings_.frames) * n_, 0.0f);
+    buildWorld();
+    for (std::size_t i = 0; i < glue_.size(); ++i) glue_[i].restStress = restLoads[i];
     if (triggerStep_ == 0) trigger();
     record(0);
     for (int frame = 1; frame < settings_.frames; ++frame) {
@@ -391,7 +423,8 @@ void Simulation::addGlue() {
         Rng rng(deriveSeed(settings_.seed, "bond-strength", i));
         const double variation = 1.0 + settings_.strengthVariation * (2.0 * rng.uniform() - 1.0);
         const double area = std::max(b.area, 1e-8);
-        glue_.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), settings_.strength * variation});
+        const double strength = b.strength > 0.0 ? b.strength : settings_.strength;  // the bond's material's, if it has one
+        glue_.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), strength * variation});
         w_.world->addConstraint(joint.get(), true);
         w_.constraints.push_back(std::move(joint));
     }
@@ -416,6 +449,7 @@ void Simulation::addGroundAndColliders() {
         w_.dispatcher.support = s;
     }
     for (const Mesh& m : settings_.colliders) {
+        if (m.indices.empty()) continue;  // Bullet's BVH builder crashes on an empty mesh
         auto& vertices = w_.colliderVertices.emplace_back();
         auto& indices = w_.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
         for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
@@ -427,28 +461,6 @@ void Simulation::addGroundAndColliders() {
         ci.m_friction = btScalar(settings_.friction);
         w_.triangleArrays.push_back(std::move(array));
         addBody(std::make_unique<btRigidBody>(ci), std::move(shape)).setUserIndex(kCollider);
-    }
-}
-
-// What each bond carries to hold the structure up at rest: a rigid solver spreads a
-// static load over redundant joints in no physical proportion (small bonds can carry
-// most of it), so a bond breaks on the stress above this, not on the stress itself.
-// Measured over a few steps from the rest pose, which is then restored.
-void Simulation::measureRestLoads() {
-    constexpr int kProbeSteps = 8;
-    for (int s = 0; s < kProbeSteps; ++s) {
-        w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-        for (std::size_t i = 0; i < glue_.size(); ++i)
-            glue_[i].restStress = std::max(glue_[i].restStress, 1.25 * glueStress(i));
-    }
-    for (std::size_t i = 0; i < n_; ++i) {
-        btRigidBody& body = *w_.bodies[i];
-        body.setCenterOfMassTransform(btTransform(bt(glm::conjugate(info_[i].toMesh)), bt(pieces_[i].centerOfMass)));
-        body.setLinearVelocity(btVector3(0, 0, 0));
-        body.setAngularVelocity(btVector3(0, 0, 0));
-        body.clearForces();
-        body.setDeactivationTime(0);
-        body.activate(true);
     }
 }
 
@@ -665,13 +677,17 @@ PrincipalInertia principalInertia(const glm::dmat3& inertia) {
 SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bond> bonds,
                           const SimulationSettings& settings, const ProgressFn& progress) {
     checkSettings(pieces, bonds, settings);
-    PieceShapes shapes = pieceShapes(pieces, settings);
+    const PieceShapes shapes = pieceShapes(pieces, settings);
     // Bodies slower than Bullet's thresholds (0.8 m/s, 1 rad/s) for a second fall asleep
     // (Bullet's default is two): rubble at rest costs nothing. A library global, always
     // set to the same value here.
     gDeactivationTime = btScalar(1.0);
-    Simulation simulation(pieces, bonds, settings, std::move(shapes));
-    return simulation.run(progress);
+    std::vector<double> rest;
+    if (settings.strength > 0.0 && !bonds.empty()) rest = Simulation(pieces, bonds, settings, shapes).restLoads();
+    Simulation simulation(pieces, bonds, settings, shapes);
+    return simulation.run(progress, rest);
 }
 
 }  // namespace dawnforge::sim
+
+

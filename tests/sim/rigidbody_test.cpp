@@ -160,6 +160,24 @@ TEST(Rigidbody, ProjectileBreaksBondsNearItsTarget) {
     EXPECT_LT(positionAt(r, 59, nearest).x - positionAt(r, 0, nearest).x, -0.5);
 }
 
+// A bond's own strength (a building's bonds carry their material's) wins over the
+// settings' default: the same hit breaks few of the bonds made a thousand times stronger.
+TEST(Rigidbody, ABondsOwnStrengthWinsOverTheDefault) {
+    const FractureResult tower = smallTower();
+    const std::vector<RigidPiece> pieces = rigidPieces(tower);
+    SimulationSettings s;
+    s.frames = 30;
+    Projectile p;
+    p.target = {3.0, 4.5, 0.0};
+    p.direction = {-1.0, 0.0, 0.0};
+    s.projectile = p;
+    std::vector<Bond> strong = tower.bonds;
+    for (Bond& b : strong) b.strength = 1000.0 * s.strength;
+    const std::size_t weakBroken = simulate(pieces, tower.bonds, s).brokenBonds;
+    EXPECT_GT(weakBroken, 10u);
+    EXPECT_LT(10 * simulate(pieces, strong, s).brokenBonds, weakBroken);
+}
+
 TEST(Rigidbody, ExplosionPushesPiecesAwayFromItsCentre) {
     const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;
@@ -271,6 +289,11 @@ TEST(Rigidbody, StaticCollidersCatchPieces) {
     EXPECT_NEAR(positionAt(r, 89, 0).y, 1.5, 0.03);  // resting on the platform's top
     s.colliders.clear();
     EXPECT_LT(positionAt(simulate(pieces, {}, s), 89, 0).y, -10.0);  // without it, it falls
+    // An empty collider (a city's ground with no triangle near a building) is no collider:
+    // Bullet's tree builder crashed on it.
+    s.colliders.push_back(Mesh{});
+    s.colliders.push_back(makeBox({-3, 0, -3}, {3, 1, 3}));
+    EXPECT_NEAR(positionAt(simulate(pieces, {}, s), 89, 0).y, 1.5, 0.03);
 }
 
 // Turns follow the path: a bar set spinning, sampled at 30 fps and at 3.75 fps with the
