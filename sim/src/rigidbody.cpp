@@ -336,7 +336,8 @@ void Simulation::buildWorld() {
 // fell asleep. A quarter more covers one that never quite sleeps.
 std::vector<double> Simulation::restLoads() {
     const bool triggered = settings_.collapse || settings_.explosion || settings_.projectile;
-    const long steps = triggered ? triggerStep_ : std::lround(2.0 / dt_);
+    const long runSteps = long(settings_.frames - 1) * settings_.substeps;  // no step beyond the run's own
+    const long steps = std::min(runSteps, triggered ? triggerStep_ : std::lround(2.0 / dt_));
     buildWorld();
     std::vector<double> rest(glue_.size(), 0.0);
     const auto awake = [&] {
@@ -689,5 +690,3 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
 }
 
 }  // namespace dawnforge::sim
-
-
