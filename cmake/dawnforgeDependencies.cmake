@@ -47,6 +47,7 @@ dawnforge_find_dependency(assimp 5.2)               # core: FBX, Collada, STL, P
 dawnforge_find_dependency(TBB 2021)                 # procgen, sim, runtime: parallel loops
 dawnforge_find_dependency(CGAL 5.5)                 # core, procgen, sim (with GMP and MPFR)
 dawnforge_find_dependency(Bullet 3.24)              # sim: rigid bodies (FindBullet.cmake)
+dawnforge_find_dependency(Eigen3 3.3 NO_MODULE)     # sim: the bond graph's sparse solve
 dawnforge_find_dependency(OpenEXR 3.1)              # exporters: VAT textures; bake: overlook.exr
 dawnforge_find_dependency(embree 3.13)              # bake: ray queries (Embree 3)
 dawnforge_find_dependency(glfw3 3.3)                # runtime: the window

@@ -228,7 +228,7 @@ void addBuildingOptions(CLI::App& cmd, FractureOptions& o) {
         ->check(CLI::PositiveNumber)->capture_default_str();
     cmd.add_option("--strength", o.strengths,
                    "With --building: MATERIAL=PA, the glue strength of a material's bonds (repeatable; a bond takes "
-                   "the weaker of its two pieces'; defaults: concrete 1e6, brick 5e5, wood 3e5, plaster 2e5, glass 5e4)");
+                   "the weaker of its two pieces'; defaults: concrete 3e6, brick and plaster 1.5e6, wood 9e5, glass 1.5e5)");
 }
 
 }  // namespace

@@ -108,7 +108,7 @@ void addSolverOptions(CLI::App& cmd, sim::SimulationSettings& s) {
         ->check(CLI::Range(1, 1000))->capture_default_str();
     cmd.add_option("--seed", s.seed, "Random seed (varies each bond's strength)")->capture_default_str();
     cmd.add_option("--strength", s.strength,
-                   "Glue strength (Pa): a bond breaks when its stress (axial + bending) above what it carries at rest "
+                   "Glue strength (Pa) of bonds with none of their own: a bond breaks when its largest principal stress (pull, bending, shear) above what it carries at rest "
                    "exceeds this; 0: no glue")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd.add_option("--strength-variation", s.strengthVariation, "Relative spread of bond strengths, from the seed")

@@ -1021,19 +1021,19 @@ const char* breakStyleName(BreakStyle style) {
 
 std::array<MaterialBreak, kMaterialCount> defaultMaterialBreaks() {
     std::array<MaterialBreak, kMaterialCount> table;
-    table.fill({BreakStyle::Voronoi, 2400.0, 1e6});
+    table.fill({BreakStyle::Voronoi, 2400.0, 3e6});
     table[kAsphalt].density = 2300.0;
     table[kPaving].density = 2300.0;
-    table[kBrick] = {BreakStyle::Voronoi, 1900.0, 5e5};
-    table[kPlaster] = {BreakStyle::Voronoi, 1200.0, 2e5};
-    table[kGlass] = {BreakStyle::Shards, 2500.0, 5e4};
+    table[kBrick] = {BreakStyle::Voronoi, 1900.0, 1.5e6};
+    table[kPlaster] = {BreakStyle::Voronoi, 1200.0, 1.5e6};  // the render of a masonry wall: it breaks as the wall
+    table[kGlass] = {BreakStyle::Shards, 2500.0, 1.5e5};
     table[kMetal].density = 1500.0;  // railings are bars and air, drawn as solid plates
-    table[kTrim] = {BreakStyle::Voronoi, 2200.0, 5e5};
-    table[kRoofTiles] = {BreakStyle::Voronoi, 1800.0, 5e5};
-    table[kWood] = {BreakStyle::Splinters, 600.0, 3e5};
-    table[kInteriorWall] = {BreakStyle::Voronoi, 1200.0, 2e5};
-    table[kSand] = {BreakStyle::Voronoi, 1600.0, 1e5};
-    table[kRubble] = {BreakStyle::Voronoi, 1900.0, 1e5};
+    table[kTrim] = {BreakStyle::Voronoi, 2200.0, 1.5e6};
+    table[kRoofTiles] = {BreakStyle::Voronoi, 1800.0, 1.5e6};
+    table[kWood] = {BreakStyle::Splinters, 600.0, 9e5};
+    table[kInteriorWall] = {BreakStyle::Voronoi, 1200.0, 6e5};
+    table[kSand] = {BreakStyle::Voronoi, 1600.0, 3e5};
+    table[kRubble] = {BreakStyle::Voronoi, 1900.0, 3e5};
     return table;
 }
 

@@ -6,6 +6,8 @@
 // parallel but each depends on its piece alone.
 #include <dawnforge/sim/rigidbody.hpp>
 
+#include "bond_stress.hpp"
+
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/seed.hpp>
@@ -229,32 +231,28 @@ double ccdSize(const Hull& hull) {
     return std::max(1e-3, 0.5 * std::min({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}));
 }
 
-// Glue: one fixed joint per bond, anchored at the shared face's centroid. A bond breaks
-// when the stress its joint carries, |F|/A + 4|M|/(A·r) (axial plus bending of a round
-// section of the same area A, radius r, M about the anchor) exceeds what it carries at
-// rest (Simulation::restLoads) by more than its strength. Bullet's own impulse threshold is
-// not used: it compares each solver row alone and mixes N·s with N·m·s, so small bonds
-// under bending broke at any strength. Pieces of one glued cluster do not collide
-// (ClusterDispatcher); once a break splits the cluster, they do.
+// Glue: one fixed joint per bond, anchored at the shared face's centroid, holds the pieces
+// together. Whether a bond breaks is not read from the joint: a rigid solver's split of a
+// load over redundant joints is arbitrary and swings whenever it re-solves (bond_stress.hpp).
+// Once a frame, the bond graph's linear model gives each bond's largest principal stress
+// under the pieces' weights and each piece's largest contact load of the frame's substeps
+// (a hit lasts one substep: averaged over the frame it would count a quarter); the bond
+// breaks when that exceeds what it carried in the first frame by more than its strength.
+// Pieces of one glued cluster do not collide (ClusterDispatcher); once a break splits the
+// cluster, they do.
 struct Glue {
-    std::uint32_t a = 0;
-    btVector3 anchorInA;      // anchor in body A's frame
-    double area = 0.0;
-    double radius = 0.0;
     double strength = 0.0;    // Pa, with this bond's variation
-    double restStress = 0.0;  // Pa, what the bond carries holding the structure at rest
+    double restStress = 0.0;  // Pa, what the bond carried in the first step
 };
 
 // One run of simulate(). Bullet's results depend on the order of every call that
 // reaches it, so run() keeps one: pieces in piece order, glue in bond order, ground,
-// colliders, the rest-load probe, then fixed steps (the projectile, if any, is added
-// at the trigger step).
+// colliders, then fixed steps (the projectile, if any, is added at the trigger step).
 class Simulation {
 public:
     Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds, const SimulationSettings& settings,
                const PieceShapes& shapes);
-    std::vector<double> restLoads();
-    SimulationResult run(const ProgressFn& progress, std::span<const double> restLoads);
+    SimulationResult run(const ProgressFn& progress);
 
 private:
     void addPieces();
@@ -271,7 +269,8 @@ private:
     void recordTurns(int frame);
 
     btRigidBody& addBody(std::unique_ptr<btRigidBody> body, std::unique_ptr<btCollisionShape> shape);
-    double glueStress(std::size_t i) const;
+    void buildStressModel();
+    void addContactLoads();
     void updateClusters();
     void breakOverloadedGlue();
     double totalEnergy() const;
@@ -288,7 +287,9 @@ private:
     SimulationResult result_;
     std::vector<BodyInfo> info_;            // per piece
     std::vector<Glue> glue_;                // per bond, when there is glue
-    std::vector<btJointFeedback> feedback_;  // per bond; the joints point into it, so it is never resized
+    std::unique_ptr<BondStressModel> stress_;  // built after the first frame, when there is glue
+    NodeLoads frameLoads_;                     // each piece's largest contact load of the frame so far
+    NodeLoads stepLoads_;                      // the contacts' loads of the substep just taken
     btRigidBody* projectile_ = nullptr;
     BodyInfo projectileInfo_;
     long step_ = 0;
@@ -326,38 +327,10 @@ void Simulation::buildWorld() {
     addGroundAndColliders();
 }
 
-// What each bond carries to hold the structure up at rest. A rigid solver spreads a static
-// load over redundant joints in no physical proportion (small bonds can carry most of it,
-// and the share swings while the structure settles), so a bond breaks on the stress above
-// this, not on the stress itself. This world runs the real run's first steps with nothing
-// breaking, up to the trigger, or with none until every piece has fallen asleep (at most
-// 2 s). The real run repeats them exactly, as Bullet is deterministic: no bond breaks
-// before the trigger, and a structure left alone carries, asleep, what it carried when it
-// fell asleep. A quarter more covers one that never quite sleeps.
-std::vector<double> Simulation::restLoads() {
-    const bool triggered = settings_.collapse || settings_.explosion || settings_.projectile;
-    const long runSteps = long(settings_.frames - 1) * settings_.substeps;  // no step beyond the run's own
-    const long steps = std::min(runSteps, triggered ? triggerStep_ : std::lround(2.0 / dt_));
-    buildWorld();
-    std::vector<double> rest(glue_.size(), 0.0);
-    const auto awake = [&] {
-        for (std::size_t i = 0; i < n_; ++i)
-            if (w_.bodies[i]->isActive()) return true;
-        return false;
-    };
-    for (long s = 0; s < steps && awake(); ++s) {
-        w_.dispatcher.dropStaleContacts();
-        w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-        for (std::size_t i = 0; i < glue_.size(); ++i) rest[i] = std::max(rest[i], 1.25 * glueStress(i));
-    }
-    return rest;
-}
-
-SimulationResult Simulation::run(const ProgressFn& progress, std::span<const double> restLoads) {
+SimulationResult Simulation::run(const ProgressFn& progress) {
     result_.transforms.resize(std::size_t(settings_.frames) * n_ * 7);
     result_.turns.assign(std::size_t(settings_.frames) * n_, 0.0f);
     buildWorld();
-    for (std::size_t i = 0; i < glue_.size(); ++i) glue_[i].restStress = restLoads[i];
     if (triggerStep_ == 0) trigger();
     record(0);
     for (int frame = 1; frame < settings_.frames; ++frame) {
@@ -411,7 +384,6 @@ void Simulation::addPieces() {
 
 void Simulation::addGlue() {
     if (!(settings_.strength > 0.0)) return;
-    feedback_.resize(bonds_.size());
     for (std::size_t i = 0; i < bonds_.size(); ++i) {
         const Bond& b = bonds_[i];
         btRigidBody& A = *w_.bodies[b.a];
@@ -420,12 +392,10 @@ void Simulation::addGlue() {
         const btTransform inA = A.getCenterOfMassTransform().inverse() * anchor;
         const btTransform inB = B.getCenterOfMassTransform().inverse() * anchor;
         auto joint = std::make_unique<btFixedConstraint>(A, B, inA, inB);
-        joint->setJointFeedback(&feedback_[i]);
         Rng rng(deriveSeed(settings_.seed, "bond-strength", i));
         const double variation = 1.0 + settings_.strengthVariation * (2.0 * rng.uniform() - 1.0);
-        const double area = std::max(b.area, 1e-8);
         const double strength = b.strength > 0.0 ? b.strength : settings_.strength;  // the bond's material's, if it has one
-        glue_.push_back({b.a, inA.getOrigin(), area, std::sqrt(area / glm::pi<double>()), strength * variation});
+        glue_.push_back({strength * variation, 0.0});
         w_.world->addConstraint(joint.get(), true);
         w_.constraints.push_back(std::move(joint));
     }
@@ -474,6 +444,7 @@ void Simulation::trigger() {
 // Every bond breaks at once.
 void Simulation::collapse() {
     for (auto& c : w_.constraints) c->setEnabled(false);
+    for (std::size_t i = 0; stress_ && i < glue_.size(); ++i) stress_->breakLink(i);
     for (std::size_t i = 0; i < n_; ++i) w_.bodies[i]->activate(true);
     updateClusters();
 }
@@ -523,8 +494,9 @@ void Simulation::launchProjectile() {
 void Simulation::step() {
     w_.dispatcher.dropStaleContacts();
     w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-    breakOverloadedGlue();
+    if (!glue_.empty()) addContactLoads();
     ++step_;
+    if (step_ % settings_.substeps == 0) breakOverloadedGlue();
     if (step_ == triggerStep_) trigger();
 }
 
@@ -574,12 +546,53 @@ void Simulation::recordTurns(int frame) {
     }
 }
 
-double Simulation::glueStress(std::size_t i) const {
-    const btRigidBody& A = *w_.bodies[glue_[i].a];
-    const glm::dvec3 force = toGlm(feedback_[i].m_appliedForceBodyA);
-    const glm::dvec3 lever = toGlm(A.getCenterOfMassTransform().getBasis() * glue_[i].anchorInA);
-    const glm::dvec3 moment = toGlm(feedback_[i].m_appliedTorqueBodyA) - glm::cross(lever, force);
-    return glm::length(force) / glue_[i].area + 4.0 * glm::length(moment) / (glue_[i].area * glue_[i].radius);
+// The model of the bond graph at rest: pieces at their rest centres of mass, held where the
+// first step found them touching the ground, a support or a collider.
+void Simulation::buildStressModel() {
+    std::vector<StressNode> nodes(n_);
+    for (std::size_t i = 0; i < n_; ++i) nodes[i] = {pieces_[i].centerOfMass, pieces_[i].mass, false};
+    for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
+        const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
+        const int i = manifold->getBody0()->getUserIndex(), j = manifold->getBody1()->getUserIndex();
+        if (manifold->getNumContacts() == 0 || (i >= 0) == (j >= 0)) continue;
+        nodes[std::size_t(std::max(i, j))].held = true;
+    }
+    std::vector<StressLink> links;
+    links.reserve(bonds_.size());
+    for (const Bond& b : bonds_) links.push_back({b.a, b.b, b.centroid, b.normal, std::max(b.area, 1e-8)});
+    stress_ = std::make_unique<BondStressModel>(std::move(nodes), std::move(links));
+    for (std::size_t i = 0; i < glue_.size(); ++i)
+        if (!w_.constraints[i]->isEnabled()) stress_->breakLink(i);  // a collapse before the first step
+}
+
+// The contact impulses of the substep just taken, over its length, as forces and torques in
+// each piece's rest frame; each piece keeps the largest of the frame's substeps.
+void Simulation::addContactLoads() {
+    const auto zero = [&] { return NodeLoads{std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), std::vector<glm::dvec3>(n_, glm::dvec3(0.0))}; };
+    if (frameLoads_.force.empty()) frameLoads_ = zero();
+    stepLoads_ = zero();
+    const auto add = [&](int piece, const btVector3& impulse, const btVector3& at) {
+        if (piece < 0) return;
+        const btRigidBody& body = *w_.bodies[std::size_t(piece)];
+        const glm::dquat back = glm::conjugate(meshOrientation(std::size_t(piece)));
+        stepLoads_.force[std::size_t(piece)] += back * toGlm(impulse) / dt_;
+        stepLoads_.torque[std::size_t(piece)] += back * toGlm((at - body.getCenterOfMassPosition()).cross(impulse)) / dt_;
+    };
+    for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
+        const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
+        const int a = manifold->getBody0()->getUserIndex(), b = manifold->getBody1()->getUserIndex();
+        for (int c = 0; c < manifold->getNumContacts(); ++c) {
+            const btManifoldPoint& p = manifold->getContactPoint(c);
+            const btVector3 impulse = p.m_normalWorldOnB * p.getAppliedImpulse() +
+                                      p.m_lateralFrictionDir1 * p.m_appliedImpulseLateral1 +
+                                      p.m_lateralFrictionDir2 * p.m_appliedImpulseLateral2;
+            add(a, impulse, p.getPositionWorldOnA());
+            add(b, -impulse, p.getPositionWorldOnB());
+        }
+    }
+    for (std::size_t i = 0; i < n_; ++i)
+        if (glm::length(stepLoads_.force[i]) > glm::length(frameLoads_.force[i]))
+            frameLoads_.force[i] = stepLoads_.force[i], frameLoads_.torque[i] = stepLoads_.torque[i];
 }
 
 // Clusters: connected components of the unbroken bonds (union-find, smallest index as
@@ -601,10 +614,19 @@ void Simulation::updateClusters() {
 }
 
 void Simulation::breakOverloadedGlue() {
+    if (glue_.empty()) return;
+    const bool first = !stress_;
+    if (first) buildStressModel();
+    for (std::size_t i = 0; i < n_; ++i)  // the weights, in the rest frames
+        frameLoads_.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
+    const std::vector<double> stress = stress_->stresses(frameLoads_);
+    frameLoads_ = {};
     bool broke = false;
     for (std::size_t i = 0; i < glue_.size(); ++i) {
+        if (first) glue_[i].restStress = stress[i];
         btTypedConstraint& joint = *w_.constraints[i];
-        if (!joint.isEnabled() || glueStress(i) - glue_[i].restStress <= glue_[i].strength) continue;
+        if (!joint.isEnabled() || stress[i] - glue_[i].restStress <= glue_[i].strength) continue;
+        stress_->breakLink(i);
         joint.setEnabled(false);
         joint.getRigidBodyA().activate(true);
         joint.getRigidBodyB().activate(true);
@@ -683,10 +705,8 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     // (Bullet's default is two): rubble at rest costs nothing. A library global, always
     // set to the same value here.
     gDeactivationTime = btScalar(1.0);
-    std::vector<double> rest;
-    if (settings.strength > 0.0 && !bonds.empty()) rest = Simulation(pieces, bonds, settings, shapes).restLoads();
     Simulation simulation(pieces, bonds, settings, shapes);
-    return simulation.run(progress, rest);
+    return simulation.run(progress);
 }
 
 }  // namespace dawnforge::sim

@@ -29,14 +29,18 @@ namespace dawnforge::sim {
 struct MaterialBreak {
     BreakStyle style = BreakStyle::Voronoi;
     double density = 2400.0;   // kg/m^3
-    double strength = 1e6;     // Pa: the glue of its bonds (a bond between two materials takes the weaker)
+    double strength = 3e6;     // Pa: the glue of its bonds (a bond between two materials takes the weaker)
 };
 
 // Per core material (core/materials.hpp): glass shatters into shards, wood splinters, the
 // rest breaks into Voronoi cells; densities of the real materials (brick 1900, concrete
 // 2400, plaster 1200, glass 2500, wood 600, metal 1500 for railings that are mostly air, ...);
-// glue strengths in the ratio of the materials' tensile strengths, scaled so that the
-// simulation's default (1e6 Pa) is concrete's: glass 5e4, plaster 2e5, wood 3e5, brick 5e5.
+// glue strengths: concrete 3e6 Pa; brick, trim, roof tiles and plaster (the render of a
+// masonry wall) 1.5e6; wood 9e5; interior walls 6e5; glass 1.5e5. A bond breaks on the stress
+// above what it carries at rest (SimulationSettings::strength), and a building's walls carry up
+// to about 1e6 Pa of their own weight: strengths of that order keep a hole from bringing the
+// rest down, unless the hit is hard (a generic mesh, light and unloaded, takes the
+// simulation's default, 1e6).
 std::array<MaterialBreak, kMaterialCount> defaultMaterialBreaks();
 
 struct FracturePart {

@@ -70,7 +70,7 @@ struct SimulationSettings {
     std::optional<double> groundHeight;  // default: the lowest point of the pieces
     double friction = 0.6;
     double restitution = 0.1;
-    double strength = 1e6;            // glue, Pa: a bond breaks when its stress above the rest load exceeds this; 0: no glue
+    double strength = 1e6;            // glue, Pa: a bond breaks when its stress above its rest stress exceeds this; 0: no glue
     double strengthVariation = 0.2;   // relative, per bond, from the seed
     int hullVertices = 48;            // collision hull vertex budget per piece
     double margin = 0.01;             // Bullet collision margin (m); hulls are shrunk by it first

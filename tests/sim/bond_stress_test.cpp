@@ -1,0 +1,69 @@
+// BondStressModel: the largest principal stress of each bond of a glued structure, from a
+// linear model of the bond graph, checked on structures small enough to solve by hand.
+#include "bond_stress.hpp"
+
+#include <dawnforge/core/error.hpp>
+
+#include <glm/gtc/constants.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace dawnforge::sim;
+
+namespace {
+
+// Node 0 held at the origin, node 1 a metre above it, one bond between them at half height
+// with the normal from 0 to 1 (+y) and the given area; `load` on node 1.
+std::vector<double> column(double area, glm::dvec3 force, glm::dvec3 torque = glm::dvec3(0.0)) {
+    BondStressModel model({{{0, 0, 0}, 10.0, true}, {{0, 1, 0}, 10.0, false}}, {{0, 1, {0, 0.5, 0}, {0, 1, 0}, area}});
+    return model.stresses({{glm::dvec3(0.0), force}, {glm::dvec3(0.0), torque}});
+}
+
+}  // namespace
+
+TEST(BondStress, APulledBondCarriesForceOverAreaAndAPressedOneNothing) {
+    EXPECT_NEAR(column(0.5, {0, 1000, 0})[0], 2000.0, 1e-3);
+    EXPECT_NEAR(column(0.5, {0, -1000, 0})[0], 0.0, 1e-3);
+}
+
+// σ = 0, τ = F/A: the principal stress is τ. Node 1's load acts 0.5 m from the bond, so it
+// also bends it: σ = 4·M/(A·r) with M = 0.5·F.
+TEST(BondStress, ShearAndBendingGiveTheirPrincipalStress) {
+    const double area = 0.5, force = 1000.0, r = std::sqrt(area / glm::pi<double>());
+    const double sigma = 4.0 * 0.5 * force / (area * r), tau = force / area;
+    EXPECT_NEAR(column(area, {force, 0, 0})[0], 0.5 * sigma + std::sqrt(0.25 * sigma * sigma + tau * tau), 1e-2);
+    // A pure twist about the normal: τ = 2·T/(A·r).
+    EXPECT_NEAR(column(area, glm::dvec3(0.0), {0, 100, 0})[0], 2.0 * 100.0 / (area * r), 1e-3);
+}
+
+// Two bonds side by side carry a load in proportion to their areas: the same stress.
+TEST(BondStress, ParallelBondsShareALoadByTheirAreas) {
+    BondStressModel model({{{0, 0, 0}, 10.0, true}, {{0, 1, 0}, 10.0, false}},
+                          {{0, 1, {-1, 0.5, 0}, {0, 1, 0}, 0.1}, {0, 1, {1, 0.5, 0}, {0, 1, 0}, 0.1}, {0, 1, {0, 0.5, 0}, {0, 1, 0}, 0.3}});
+    const std::vector<double> s = model.stresses({{glm::dvec3(0.0), {0, 5000, 0}}, {glm::dvec3(0.0), glm::dvec3(0.0)}});
+    for (double v : s) EXPECT_NEAR(v, 5000.0 / 0.5, 1e-2);
+}
+
+// A glued pair with nothing held falls as one: its weight stresses nothing. A broken bond
+// carries nothing, and the rest of the structure takes its load.
+TEST(BondStress, AFallingGroupCarriesNoWeightAndABrokenBondNothing) {
+    const glm::dvec3 g(0, -9.81, 0);
+    BondStressModel falling({{{0, 0, 0}, 10.0, false}, {{0, 1, 0}, 30.0, false}}, {{0, 1, {0, 0.5, 0}, {0, 1, 0}, 0.1}});
+    EXPECT_NEAR(falling.stresses({{10.0 * g, 30.0 * g}, {glm::dvec3(0.0), glm::dvec3(0.0)}})[0], 0.0, 1e-6);
+
+    BondStressModel pair({{{0, 0, 0}, 10.0, true}, {{0, 1, 0}, 10.0, false}},
+                         {{0, 1, {-1, 0.5, 0}, {0, 1, 0}, 0.2}, {0, 1, {1, 0.5, 0}, {0, 1, 0}, 0.2}});
+    const NodeLoads pull{{glm::dvec3(0.0), {0, 4000, 0}}, {glm::dvec3(0.0), glm::dvec3(0.0)}};
+    EXPECT_NEAR(pair.stresses(pull)[1], 4000.0 / 0.4, 1e-2);
+    pair.breakLink(0);
+    const std::vector<double> after = pair.stresses(pull);
+    EXPECT_EQ(after[0], 0.0);
+    EXPECT_GT(after[1], 4000.0 / 0.2);  // all the pull, and the bending of carrying it off-centre
+}
+
+TEST(BondStress, ABondToAMissingPieceIsAnInputError) {
+    EXPECT_THROW(BondStressModel({{{0, 0, 0}, 1.0, true}}, {{0, 1, {0, 0, 0}, {0, 1, 0}, 1.0}}), dawnforge::InputError);
+    EXPECT_THROW(BondStressModel({{{0, 0, 0}, 1.0, true}, {{0, 1, 0}, 1.0, false}}, {{0, 1, {0, 0, 0}, {0, 1, 0}, 0.0}}),
+                 dawnforge::InputError);
+}
