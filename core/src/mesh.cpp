@@ -102,8 +102,8 @@ void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
     carry(dst.materialIds, src.materialIds);
     carry(dst.pieceIds, src.pieceIds);
 
+    // No reserve(): an exact one per call would copy the whole mesh on every append.
     const glm::mat3 normalMatrix = glm::inverseTranspose(glm::mat3(transform));
-    dst.positions.reserve(total);
     for (const glm::vec3& p : src.positions) dst.positions.push_back(glm::vec3(transform * glm::vec4(p, 1.0f)));
     for (std::size_t i = 0; i < src.normals.size(); ++i) {
         const glm::vec3 n = normalMatrix * src.normals[i];
@@ -112,7 +112,6 @@ void appendMesh(Mesh& dst, const Mesh& src, const glm::mat4& transform) {
     }
     // A mirroring transform turns the winding inside out: restore counter-clockwise.
     const bool mirrored = glm::determinant(glm::mat3(transform)) < 0.0f;
-    dst.indices.reserve(dst.indices.size() + src.indices.size());
     for (std::size_t t = 0; t + 2 < src.indices.size(); t += 3) {
         const auto a = static_cast<std::uint32_t>(base + src.indices[t]);
         const auto b = static_cast<std::uint32_t>(base + src.indices[t + 1]);
