@@ -25,5 +25,6 @@ Command addDemo(CLI::App& app, CommonOptions& common);
 Command addRender(CLI::App& app, CommonOptions& common);
 Command addView(CLI::App& app, CommonOptions& common);
 Command addBake(CLI::App& app, CommonOptions& common);
+Command addPivots(CLI::App& app, CommonOptions& common);
 
 }  // namespace dawnforge::cli

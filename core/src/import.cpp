@@ -442,8 +442,8 @@ glm::mat4 localMatrix(const tinygltf::Node& node) {
     return glm::mat4(m);
 }
 
-void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, std::vector<MeshNode>& out,
-             std::vector<bool>& visited, const std::string& source) {
+void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, int parentEntry,
+             std::vector<MeshNode>& out, std::vector<bool>& visited, const std::string& source) {
     if (index < 0 || std::size_t(index) >= model.nodes.size())
         throw InputError(format("{}: node {} does not exist", source, index));
     if (visited[std::size_t(index)])
@@ -457,12 +457,14 @@ void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, s
         MeshNode entry;
         entry.name = node.name;
         entry.world = world;
+        entry.parent = parentEntry;
         entry.mesh.name = model.meshes[std::size_t(node.mesh)].name;
         for (const tinygltf::Primitive& prim : model.meshes[std::size_t(node.mesh)].primitives)
             appendMesh(entry.mesh, readPrimitive(model, prim, source), glm::mat4(1.0f));
+        parentEntry = int(out.size());
         out.push_back(std::move(entry));
     }
-    for (int child : node.children) addNode(model, child, world, out, visited, source);
+    for (int child : node.children) addNode(model, child, world, parentEntry, out, visited, source);
 }
 
 // The JSON of a .gltf file, or of a GLB's first chunk (read alone: a GLB may be a
@@ -564,7 +566,7 @@ std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& nam
         for (std::size_t i = 0; i < model.nodes.size(); ++i)
             if (!isChild[i]) roots.push_back(int(i));
     }
-    for (int root : roots) addNode(model, root, glm::mat4(1.0f), nodes, visited, name);
+    for (int root : roots) addNode(model, root, glm::mat4(1.0f), -1, nodes, visited, name);
     return nodes;
 }
 

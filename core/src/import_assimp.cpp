@@ -211,15 +211,21 @@ std::vector<MeshNode> loadAssimpNodes(const fs::path& file, const std::string& n
 
     // Depth first, children in order, without recursion (a malformed file may nest deeply).
     std::vector<MeshNode> nodes;
-    std::vector<std::pair<const aiNode*, glm::mat4>> stack{{scene->mRootNode, root}};
+    struct Pending {
+        const aiNode* node;
+        glm::mat4 parent;
+        int parentEntry;  // the nearest ancestor entry that shows a mesh
+    };
+    std::vector<Pending> stack{{scene->mRootNode, root, -1}};
     while (!stack.empty()) {
-        const auto [node, parent] = stack.back();
+        auto [node, parent, parentEntry] = stack.back();
         stack.pop_back();
         const glm::mat4 world = parent * toGlm(node->mTransformation);
         if (node->mNumMeshes > 0 && node->mMeshes != nullptr) {
             MeshNode entry;
             entry.name = node->mName.C_Str();
             entry.world = world;
+            entry.parent = parentEntry;
             entry.mesh.name = entry.name;
             for (unsigned i = 0; i < node->mNumMeshes; ++i) {
                 const unsigned m = node->mMeshes[i];
@@ -228,11 +234,12 @@ std::vector<MeshNode> loadAssimpNodes(const fs::path& file, const std::string& n
                                             entry.name, m));
                 appendMesh(entry.mesh, readMesh(*scene->mMeshes[m], name));
             }
+            parentEntry = int(nodes.size());
             nodes.push_back(std::move(entry));
         }
         if (node->mChildren != nullptr)
             for (unsigned c = node->mNumChildren; c-- > 0;)
-                if (node->mChildren[c] != nullptr) stack.emplace_back(node->mChildren[c], world);
+                if (node->mChildren[c] != nullptr) stack.push_back({node->mChildren[c], world, parentEntry});
     }
     return nodes;
 }

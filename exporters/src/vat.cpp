@@ -1,4 +1,4 @@
-// VAT 3.0 rigid-body textures (the only OpenEXR translation unit). Layout and packing as
+// VAT 3.0 rigid-body textures (written by exr.cpp). Layout and packing as
 // in vat.hpp; read against the public SideFX Labs sources (sideeffects/SideFXLabs: the
 // URP_VAT3 shader graphs, the HDA's presets) and shared/notes/vat3-rigid.md.
 #include <dawnforge/exporters/vat.hpp>
@@ -8,12 +8,8 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/scene.hpp>
 #include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/exporters/image.hpp>
 
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfOutputFile.h>
-#include <ImfStdIO.h>
 #include <Imath/half.h>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -102,35 +98,6 @@ nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 // A bound snapped outward to the 0.1 (× engine scale) grid that the Labs shaders expect.
 double snapDown(double v, double s) { return std::floor(v / (0.1 * s) - 1e-9) * 0.1 * s; }
 double snapUp(double v, double s) { return std::ceil(v / (0.1 * s) + 1e-9) * 0.1 * s; }
-
-std::vector<std::byte> exrBytes(const std::vector<float>& rgba, const VatLayout& layout, bool half) {
-    Imf::Header header(layout.width, layout.height);
-    header.compression() = Imf::PIZ_COMPRESSION;
-    header.lineOrder() = Imf::INCREASING_Y;  // row 0 is the top of the image
-    const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
-    const char* names[4] = {"R", "G", "B", "A"};
-    for (const char* c : names) header.channels().insert(c, Imf::Channel(type));
-    std::vector<Imath::half> halves;
-    if (half) {
-        halves.resize(rgba.size());
-        for (std::size_t i = 0; i < rgba.size(); ++i) halves[i] = Imath::half(rgba[i]);
-    }
-    Imf::FrameBuffer frame;
-    const std::size_t element = half ? sizeof(Imath::half) : sizeof(float);
-    char* base = half ? reinterpret_cast<char*>(halves.data()) : const_cast<char*>(reinterpret_cast<const char*>(rgba.data()));
-    for (int c = 0; c < 4; ++c)
-        frame.insert(names[c], Imf::Slice(type, base + std::size_t(c) * element, 4 * element, 4 * element * std::size_t(layout.width)));
-    Imf::StdOSStream out;
-    {
-        Imf::OutputFile file(out, header, 1);  // one thread: the bytes do not depend on a pool
-        file.setFrameBuffer(frame);
-        file.writePixels(layout.height);
-    }
-    const std::string bytes = out.str();
-    std::vector<std::byte> result(bytes.size());
-    std::memcpy(result.data(), bytes.data(), bytes.size());
-    return result;
-}
 
 void checkAnimation(const VatAnimation& animation, std::size_t n) {
     if (!(animation.fps > 0.0)) throw InputError(format("fps must be positive (got {})", animation.fps));
@@ -412,8 +379,8 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
 
 void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir) {
     ensureOutputDirectory(dir);
-    const std::vector<std::byte> pos = exrBytes(vat.position, vat.layout, settings.half);
-    const std::vector<std::byte> rot = exrBytes(vat.rotation, vat.layout, settings.half);
+    const std::vector<std::byte> pos = encodeExr(vat.position, vat.layout.width, vat.layout.height, settings.half);
+    const std::vector<std::byte> rot = encodeExr(vat.rotation, vat.layout.width, vat.layout.height, settings.half);
     Scene scene;
     scene.addMeshNode(vat.mesh);
     scene.nodes[0].name = settings.name;

@@ -18,6 +18,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <regex>
 #include <set>
@@ -49,7 +50,7 @@ const std::string kQuickBake[8] = {"--bake-texel", "1", "--bake-interior-texel",
 TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
     const RunResult r = test::runDawnforge({"--help"});
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* cmd : {"inspect", "city", "fracture", "simulate", "vat", "bake", "render", "view", "demo"}) {
+    for (const char* cmd : {"inspect", "city", "fracture", "simulate", "vat", "bake", "render", "view", "demo", "pivots"}) {
         EXPECT_NE(r.out.find(std::string("\n  ") + cmd + " "), std::string::npos) << cmd;
         EXPECT_EQ(test::runDawnforge({cmd, "--help"}).exitCode, 0) << cmd;
     }
@@ -477,6 +478,57 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
     for (const char* f : {"sim.json", "fragments.glb"}) std::filesystem::copy_file(dir / "sim" / f, dir / "short" / f);
     test::writeText(dir / "short" / "transforms.bin", std::string(bytes.begin(), bytes.end()));
     expectBadInput({"vat", (dir / "short").string(), "-o", out}, "transforms.bin");
+    EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+// Assimp's glTF 2.0 test scene: 12 mesh nodes, 6 of them children of others. The expected
+// elements come from the file's own JSON, read here: depth first from the scene's roots, each
+// mesh node's parent its nearest mesh ancestor (a root its own).
+TEST(CliPivots, PaintsARealHierarchyInBothPresets) {
+    const std::filesystem::path gltf = "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf";
+    const nlohmann::json file = nlohmann::json::parse(test::readText(gltf));
+    std::vector<std::pair<std::string, int>> want;  // name, parent
+    const std::function<void(int, int)> visit = [&](int node, int parentElement) {
+        const nlohmann::json& n = file["nodes"][std::size_t(node)];
+        if (n.contains("mesh")) {
+            const int self = int(want.size());
+            want.emplace_back(n.value("name", ""), parentElement < 0 ? self : parentElement);
+            parentElement = self;
+        }
+        for (const auto& c : n.value("children", nlohmann::json::array())) visit(c.get<int>(), parentElement);
+    };
+    for (const auto& root : file["scenes"][file.value("scene", 0)]["nodes"]) visit(root.get<int>(), -1);
+    ASSERT_EQ(want.size(), 12u);
+
+    TempDir dir;
+    for (const char* preset : {"unreal", "native"}) {
+        const std::filesystem::path out = dir / preset;
+        const RunResult r = test::runDawnforge({"--quiet", "pivots", gltf.string(), "-o", out.string(), "--preset", preset,
+                                                "--name", "t"});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const nlohmann::json json = nlohmann::json::parse(test::readText(out / "t_pivots.json"));
+        ASSERT_EQ(json["elements"].size(), want.size());
+        for (std::size_t i = 0; i < want.size(); ++i) {
+            EXPECT_EQ(json["elements"][i]["name"], want[i].first);
+            EXPECT_EQ(json["elements"][i]["parent"], want[i].second) << want[i].first;
+        }
+        EXPECT_EQ(json["width"], 4);
+        EXPECT_EQ(json["height"], 3);
+        EXPECT_TRUE(std::filesystem::exists(out / (std::string("t_axes.") + (preset[0] == 'u' ? "png" : "exr"))));
+        test::expectValidGltf(out / "t.glb");
+    }
+}
+
+TEST(CliPivots, BadInputExits2AndWritesNothing) {
+    TempDir dir;
+    const std::string out = (dir / "out").string();
+    expectBadInput({"pivots", "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf", "-o", out},
+                   "no node hierarchy");
+    expectBadInput({"pivots", test::dataFile("cube_quads.obj").string(), "-o", out}, "no node hierarchy");
+    expectBadInput({"pivots", (dir / "missing.glb").string(), "-o", out}, "no such file");
+    expectBadInput({"pivots", "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf", "-o", out,
+                    "--preset", "unity"},
+                   "unknown preset 'unity'");
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 

@@ -23,15 +23,18 @@ namespace dawnforge {
 Mesh loadMesh(const std::filesystem::path& file);
 
 // A node that shows a mesh: its name, its world transform (with the file's unit and axis
-// conversion) and its mesh in the node's own coordinates (all primitives merged).
+// conversion), its mesh in the node's own coordinates (all primitives merged) and its parent:
+// the nearest ancestor that shows a mesh, as an index into the same list (-1: none).
 struct MeshNode {
     std::string name;
     glm::mat4 world{1.0f};
     Mesh mesh;
+    int parent = -1;
 };
 
 // Every node of a file that shows a mesh, in hierarchy order (depth first from the
-// default scene's roots); an OBJ or OFF file is one node named after the file. Each node's mesh
+// default scene's roots, so a parent comes before its children); an OBJ or OFF file is one
+// node named after the file. Each node's mesh
 // gets the checks of loadMesh.
 std::vector<MeshNode> loadMeshNodes(const std::filesystem::path& file);
 

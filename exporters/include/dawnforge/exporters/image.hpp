@@ -1,5 +1,5 @@
 #pragma once
-// 8-bit images: PNG in and out (stb). Rows run top to bottom, RGBA.
+// 8-bit images: PNG in and out (stb); float textures out as OpenEXR. Rows run top to bottom, RGBA.
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -20,5 +20,10 @@ std::vector<std::byte> encodePng(const Image& image);
 void writePng(const Image& image, const std::filesystem::path& file);
 // Reads a PNG (any channel count, expanded to RGBA); throws InputError naming the file.
 Image readPng(const std::filesystem::path& file);
+
+// OpenEXR bytes of a width × height RGBA float texture (row 0 at the top, PIZ, one thread, so
+// the same texels give the same bytes), as HALF channels or FLOAT. A value that is a half
+// already keeps its exact bits as HALF.
+std::vector<std::byte> encodeExr(std::span<const float> rgba, int width, int height, bool half);
 
 }  // namespace dawnforge::exporters
