@@ -29,15 +29,34 @@ glm::dvec2 parseSize(const std::string& text, const char* option, const char* un
     throw InputError(format("{}: expected W x H in {}, e.g. 500x400 (got \"{}\")", option, unit, text));
 }
 
+glm::dvec3 parsePoint(const std::string& text, const char* option) {
+    static const std::regex kPoint(R"(\s*([^,\s]+)\s*,\s*([^,\s]+)\s*,\s*([^,\s]+)\s*)");
+    std::smatch m;
+    if (std::regex_match(text, m, kPoint)) {
+        glm::dvec3 p(0.0);
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k) {
+            try {
+                std::size_t used = 0;
+                p[k] = std::stod(m[k + 1].str(), &used);
+                ok = used == m[k + 1].str().size() && std::isfinite(p[k]);
+            } catch (const std::exception&) {
+                ok = false;
+            }
+        }
+        if (ok) return p;
+    }
+    throw InputError(format("{}: expected X,Y,Z, three numbers separated by commas, e.g. 6,12.8,2 (got \"{}\")", option, text));
+}
+
 std::string sizeText(glm::dvec2 size) { return format("{}x{}", size.x, size.y); }
 
 CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::optional<glm::dvec3>& target,
                             const std::string& description) {
+    const std::string option = name.substr(0, name.find(','));
     return command
-        .add_option_function<std::vector<double>>(
-            name, [&target](const std::vector<double>& v) { target = glm::dvec3(v[0], v[1], v[2]); }, description)
-        ->delimiter(',')
-        ->expected(3)
+        .add_option_function<std::string>(
+            name, [&target, option](const std::string& text) { target = parsePoint(text, option.c_str()); }, description)
         ->type_name("X,Y,Z");
 }
 

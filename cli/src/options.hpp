@@ -27,7 +27,10 @@ void addThreadsOption(CLI::App& command, CommonOptions& common);
 glm::dvec2 parseSize(const std::string& text, const char* option, const char* unit);
 std::string sizeText(glm::dvec2 size);  // "500x500", the form parseSize reads
 
-// An "X,Y,Z" option that sets `target` when given.
+// "X,Y,Z": three finite numbers separated by commas. Throws InputError naming `option` otherwise.
+glm::dvec3 parsePoint(const std::string& text, const char* option);
+
+// An "X,Y,Z" option (parsePoint) that sets `target` when given.
 CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::optional<glm::dvec3>& target,
                             const std::string& description);
 

@@ -417,6 +417,8 @@ TEST(CliSimulate, BadInputExits2AndWritesNothing) {
     expectBadInput({"simulate", fracture, "-o", out, "--frames", "0"}, "--frames");
     expectBadInput({"simulate", fracture, "-o", out, "--fps", "0"}, "--fps");
     expectBadInput({"simulate", fracture, "-o", out, "--projectile", "1,2"}, "--projectile");
+    expectBadInput({"simulate", fracture, "-o", out, "--projectile", ",,"}, "--projectile: expected X,Y,Z");
+    expectBadInput({"simulate", fracture, "-o", out, "--projectile", "1,2,nan"}, "three numbers");
     expectBadInput({"simulate", fracture, "-o", out, "--strength", "-1"}, "--strength");
     // An inconsistent folder: fracture.json lists a piece fragments.glb does not have.
     std::filesystem::create_directories(dir / "broken");
