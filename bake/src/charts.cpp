@@ -4,6 +4,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/union_find.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -24,22 +25,6 @@ constexpr double kCoplanarCos = 0.99985;  // about 1°
 constexpr double kCoplanarOffset = 2e-3;  // metres
 constexpr std::uint32_t kNoTriangle = 0xffffffffu;
 constexpr double kMinChartFill = 0.6;     // a face unfolds onto a chart only if the chart's box stays this full
-
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    // The smaller index becomes the root, so roots do not depend on the order of unions.
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a == b) return;
-        if (a < b) parent[b] = a;
-        else parent[a] = b;
-    }
-};
 
 glm::dvec3 at(const ChartMesh& m, std::size_t t, int k) { return glm::dvec3(m.positions[m.indices[3 * t + std::size_t(k)]]); }
 
@@ -200,7 +185,7 @@ private:
     // Face adj.other turned about the shared edge into the chart's plane, on the far side of the
     // edge from adj.face.
     bool unfold(const Adjacency& adj, const std::vector<glm::dvec2>& gCorners, std::vector<glm::dvec2>& out) const {
-        glm::dvec2 pa, pb;
+        glm::dvec2 pa(0.0), pb(0.0);
         if (!cornerOf(adj.face, gCorners, adj.a, pa) || !cornerOf(adj.face, gCorners, adj.b, pb)) return false;
         const Face& g = faces_[adj.face];
         const Face& f = faces_[adj.other];
@@ -254,7 +239,7 @@ private:
         const double area = area_ + faces_[adj.other].area / (faces_[adj.other].texel * faces_[adj.other].texel);
         const double box = (hi.x - lo.x + 2.0) * (hi.y - lo.y + 2.0), oldBox = (hi_.x - lo_.x + 2.0) * (hi_.y - lo_.y + 2.0);
         if (box > oldBox + 1e-9 && area < kMinChartFill * box) return false;
-        glm::dvec2 pa, pb;
+        glm::dvec2 pa(0.0), pb(0.0);
         cornerOf(adj.face, gCorners, adj.a, pa);
         cornerOf(adj.face, gCorners, adj.b, pb);
         bool ok = true;

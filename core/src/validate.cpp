@@ -19,6 +19,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/union_find.hpp>
 #include <dawnforge/core/validate.hpp>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -48,7 +49,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <numeric>
 #include <optional>
 
 namespace dawnforge {
@@ -89,20 +89,6 @@ std::string counted(std::size_t n, std::string_view one, std::string_view many) 
 }
 
 glm::dvec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
-
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 // Triangles over distinct welded vertices, as CGAL's polygon soups want them.
 struct Soup {

@@ -3,12 +3,12 @@
 #include "bond_stress.hpp"
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/union_find.hpp>
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
 
 namespace dawnforge::sim {
@@ -88,18 +88,11 @@ void BondStressModel::breakLink(std::size_t link) {
 // none, pinned by a penalty a million times the stiffest diagonal.
 void BondStressModel::factor() {
     const std::size_t n = nodes_.size();
+    UnionFind groups(n);
+    for (std::size_t i = 0; i < links_.size(); ++i)
+        if (!broken_[i]) groups.unite(links_[i].a, links_[i].b);
     group_.resize(n);
-    std::iota(group_.begin(), group_.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (group_[x] != x) x = group_[x] = group_[group_[x]];
-        return x;
-    };
-    for (std::size_t i = 0; i < links_.size(); ++i) {
-        if (broken_[i]) continue;
-        const std::uint32_t a = find(links_[i].a), b = find(links_[i].b);
-        if (a != b) group_[std::max(a, b)] = std::min(a, b);
-    }
-    for (std::size_t i = 0; i < n; ++i) group_[i] = find(std::uint32_t(i));
+    for (std::size_t i = 0; i < n; ++i) group_[i] = groups.find(std::uint32_t(i));
     groupHeld_.assign(n, false);
     for (std::size_t i = 0; i < n; ++i)
         if (nodes_[i].held) groupHeld_[group_[i]] = true;

@@ -1,10 +1,11 @@
 #include "piece_surface.hpp"
 
+#include <dawnforge/core/union_find.hpp>
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <utility>
 
 namespace dawnforge::sim::detail {
@@ -122,20 +123,6 @@ void cancelOppositePairs(std::vector<GridTriangle>& tris, CleanSurface& out) {
         if (!gone[i]) kept.push_back(tris[i]);
     tris = std::move(kept);
 }
-
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 // Shells: triangles joined across edges used once in each direction and by nothing else.
 std::vector<std::vector<std::uint32_t>> shells(const std::vector<GridTriangle>& tris) {

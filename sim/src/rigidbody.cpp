@@ -11,6 +11,7 @@
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/seed.hpp>
+#include <dawnforge/core/union_find.hpp>
 
 #include <btBulletDynamicsCommon.h>
 #include <LinearMath/btConvexHullComputer.h>
@@ -598,19 +599,12 @@ void Simulation::addContactLoads() {
 // Clusters: connected components of the unbroken bonds (union-find, smallest index as
 // the representative, so the labels depend on the bonds alone).
 void Simulation::updateClusters() {
-    std::vector<int>& parent = w_.dispatcher.cluster;
-    parent.resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) parent[i] = int(i);
-    auto find = [&](int x) {
-        while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
-        return x;
-    };
-    for (std::size_t i = 0; i < glue_.size(); ++i) {
-        if (!w_.constraints[i]->isEnabled()) continue;
-        const int a = find(int(bonds_[i].a)), b = find(int(bonds_[i].b));
-        if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
-    }
-    for (std::size_t i = 0; i < n_; ++i) parent[i] = find(int(i));
+    UnionFind clusters(n_);
+    for (std::size_t i = 0; i < glue_.size(); ++i)
+        if (w_.constraints[i]->isEnabled()) clusters.unite(bonds_[i].a, bonds_[i].b);
+    std::vector<int>& label = w_.dispatcher.cluster;
+    label.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) label[i] = int(clusters.find(std::uint32_t(i)));
 }
 
 void Simulation::breakOverloadedGlue() {
