@@ -21,6 +21,7 @@ namespace {
 
 constexpr int kMaxNativeSide = 16384;
 constexpr double kUnrealExtentRange = 2048.0;  // cm: Epic's default, the Labs node's too
+constexpr double kMaxHalf = 65504.0;           // the largest finite half float
 
 // Unreal's axes and units: 100·(x, z, y).
 glm::dvec3 toUnreal(const glm::dvec3& v, double scale) { return scale * glm::dvec3(v.x, v.z, v.y); }
@@ -66,7 +67,7 @@ void checkCount(std::size_t n, PivotPreset preset, const std::string& source) {
 }
 
 // Texture 1 and 2 texels of one element, in the preset's encoding.
-void writeTexels(PivotPainter& p, std::size_t i) {
+void writeTexels(PivotPainter& p, std::size_t i, const std::string& source) {
     const PivotElement& e = p.elements[i];
     float* pivot = p.pivots.data() + 4 * i;
     float* axis = p.axes.data() + 4 * i;
@@ -76,6 +77,10 @@ void writeTexels(PivotPainter& p, std::size_t i) {
         return;
     }
     const glm::dvec3 at = toUnreal(e.pivot, 100.0), x = toUnreal(e.xAxis, 1.0);
+    if (std::max({std::abs(at.x), std::abs(at.y), std::abs(at.z)}) > kMaxHalf)
+        throw InputError(format("{}: element '{}' pivots {:.0f} m from the origin; a half float holds 655 m (move the "
+                                "mesh to the origin, or use --preset native)",
+                                source, e.name, glm::length(e.pivot)));
     for (int k = 0; k < 3; ++k) pivot[k] = float(at[k]), axis[k] = byteLevel(x[k] * 0.5 + 0.5);
     pivot[3] = indexAsHalfBits(e.parent);
     axis[3] = byteLevel(std::clamp(100.0 * e.extent / kUnrealExtentRange, 1.0 / kUnrealExtentRange, 1.0));
@@ -106,7 +111,7 @@ PivotPainter buildPivotPainter(std::span<const MeshNode> nodes, PivotPreset pres
     p.axes = p.pivots;
     for (std::size_t i = 0; i < n; ++i) {
         p.elements.push_back(elementOf(nodes[i], p.elements, int(i), source));
-        writeTexels(p, i);
+        writeTexels(p, i, source);
         const glm::vec2 texel((float(i % std::size_t(p.width)) + 0.5f) / float(p.width),
                               (float(i / std::size_t(p.width)) + 0.5f) / float(p.height));
         Mesh part = nodes[i].mesh;

@@ -223,6 +223,10 @@ TEST(PivotPainter, NoHierarchyOrTooManyElementsAreInputErrors) {
                                "at most 30720"));
     EXPECT_NO_THROW(buildPivotPainter(many, PivotPreset::Native, "big.glb"));
     nodes[1].parent = 0;
+    nodes[1].world = glm::translate(glm::mat4(1.0f), glm::vec3(700.0f, 0.0f, 0.0f));
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { buildPivotPainter(nodes, PivotPreset::Unreal, "f.glb"); }),
+                               "a half float holds 655 m"));
+    EXPECT_NO_THROW(buildPivotPainter(nodes, PivotPreset::Native, "f.glb"));
     nodes[1].world = glm::scale(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 1.0f));
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { buildPivotPainter(nodes, PivotPreset::Unreal, "f.glb"); }),
                                "scaled to nothing along its X axis"));

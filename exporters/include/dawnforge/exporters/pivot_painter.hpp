@@ -55,7 +55,8 @@ struct PivotPainter {
 };
 
 // Throws InputError naming `source` when there is no hierarchy (no element has a parent),
-// when the preset cannot hold the elements, or when an element is scaled to nothing along X.
+// when the preset cannot hold the elements or a pivot (unreal: 655 m from the origin, the
+// largest half float in cm), or when an element is scaled to nothing along X.
 PivotPainter buildPivotPainter(std::span<const MeshNode> nodes, PivotPreset preset, const std::string& source);
 
 // DIR/NAME_pivots.exr (texture 1), DIR/NAME_axes.png (unreal) or DIR/NAME_axes.exr (native),
