@@ -232,6 +232,8 @@ double ccdSize(const Hull& hull) {
     return std::max(1e-3, 0.5 * std::min({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}));
 }
 
+NodeLoads zeroLoads(std::size_t n) { return {std::vector<glm::dvec3>(n, glm::dvec3(0.0)), std::vector<glm::dvec3>(n, glm::dvec3(0.0))}; }
+
 // Glue: one fixed joint per bond, anchored at the shared face's centroid, holds the pieces
 // together. Whether a bond breaks is not read from the joint: a rigid solver's split of a
 // load over redundant joints is arbitrary and swings whenever it re-solves (bond_stress.hpp).
@@ -289,8 +291,7 @@ private:
     std::vector<BodyInfo> info_;            // per piece
     std::vector<Glue> glue_;                // per bond, when there is glue
     std::unique_ptr<BondStressModel> stress_;  // built after the first frame, when there is glue
-    NodeLoads frameLoads_;                     // each piece's largest contact load of the frame so far
-    NodeLoads stepLoads_;                      // the contacts' loads of the substep just taken
+    NodeLoads frameLoads_;                     // per piece, when there is glue: its largest contact load of the frame so far
     btRigidBody* projectile_ = nullptr;
     BodyInfo projectileInfo_;
     long step_ = 0;
@@ -400,6 +401,7 @@ void Simulation::addGlue() {
         w_.world->addConstraint(joint.get(), true);
         w_.constraints.push_back(std::move(joint));
     }
+    if (!glue_.empty()) frameLoads_ = zeroLoads(n_);
     result_.bonds = w_.constraints.size();
 }
 
@@ -569,15 +571,13 @@ void Simulation::buildStressModel() {
 // The contact impulses of the substep just taken, over its length, as forces and torques in
 // each piece's rest frame; each piece keeps the largest of the frame's substeps.
 void Simulation::addContactLoads() {
-    const auto zero = [&] { return NodeLoads{std::vector<glm::dvec3>(n_, glm::dvec3(0.0)), std::vector<glm::dvec3>(n_, glm::dvec3(0.0))}; };
-    if (frameLoads_.force.empty()) frameLoads_ = zero();
-    stepLoads_ = zero();
+    NodeLoads step = zeroLoads(n_);
     const auto add = [&](int piece, const btVector3& impulse, const btVector3& at) {
         if (piece < 0) return;
         const btRigidBody& body = *w_.bodies[std::size_t(piece)];
         const glm::dquat back = glm::conjugate(meshOrientation(std::size_t(piece)));
-        stepLoads_.force[std::size_t(piece)] += back * toGlm(impulse) / dt_;
-        stepLoads_.torque[std::size_t(piece)] += back * toGlm((at - body.getCenterOfMassPosition()).cross(impulse)) / dt_;
+        step.force[std::size_t(piece)] += back * toGlm(impulse) / dt_;
+        step.torque[std::size_t(piece)] += back * toGlm((at - body.getCenterOfMassPosition()).cross(impulse)) / dt_;
     };
     for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
         const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
@@ -592,8 +592,8 @@ void Simulation::addContactLoads() {
         }
     }
     for (std::size_t i = 0; i < n_; ++i)
-        if (glm::length(stepLoads_.force[i]) > glm::length(frameLoads_.force[i]))
-            frameLoads_.force[i] = stepLoads_.force[i], frameLoads_.torque[i] = stepLoads_.torque[i];
+        if (glm::length(step.force[i]) > glm::length(frameLoads_.force[i]))
+            frameLoads_.force[i] = step.force[i], frameLoads_.torque[i] = step.torque[i];
 }
 
 // Clusters: connected components of the unbroken bonds (union-find, smallest index as
@@ -614,7 +614,8 @@ void Simulation::breakOverloadedGlue() {
     for (std::size_t i = 0; i < n_; ++i)  // the weights, in the rest frames
         frameLoads_.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
     const std::vector<double> stress = stress_->stresses(frameLoads_);
-    frameLoads_ = {};
+    std::fill(frameLoads_.force.begin(), frameLoads_.force.end(), glm::dvec3(0.0));
+    std::fill(frameLoads_.torque.begin(), frameLoads_.torque.end(), glm::dvec3(0.0));
     bool broke = false;
     for (std::size_t i = 0; i < glue_.size(); ++i) {
         if (first) glue_[i].restStress = stress[i];
