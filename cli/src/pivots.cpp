@@ -28,14 +28,14 @@ int runPivots(const PivotsOptions& o) {
     const std::string name = o.name.empty() ? o.input.stem().string() : o.name;
     exporters::writePivotPainter(painter, o.outputDir, name);
 
-    int levels = 0, roots = 0;
-    for (const exporters::PivotElement& e : painter.elements) levels = std::max(levels, e.depth + 1), roots += e.depth == 0;
+    const auto roots = std::count_if(painter.elements.begin(), painter.elements.end(),
+                                     [](const exporters::PivotElement& e) { return e.depth == 0; });
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::printf("painted %zu elements (%d root(s), %d levels) into %d×%d texels (%s preset) in %.2f s\n",
-                painter.elements.size(), roots, levels, painter.width, painter.height,
+    std::printf("painted %zu elements (%td root(s), %d levels) into %d×%d texels (%s preset) in %.2f s\n",
+                painter.elements.size(), roots, painter.levels, painter.width, painter.height,
                 std::string(exporters::pivotPresetName(o.preset)).c_str(), seconds);
-    if (o.preset == exporters::PivotPreset::Unreal && levels > 4)
-        std::fprintf(stderr, "warning: %d levels; Unreal's PivotPainter2FoliageShader animates the first 4\n", levels);
+    if (o.preset == exporters::PivotPreset::Unreal && painter.levels > 4)
+        std::fprintf(stderr, "warning: %d levels; Unreal's PivotPainter2FoliageShader animates the first 4\n", painter.levels);
     std::printf("  wrote %s/%s{.glb,_pivots.exr,_axes.%s,_pivots.json} (TEXCOORD_1 addresses each element's texel)\n",
                 o.outputDir.string().c_str(), name.c_str(), o.preset == exporters::PivotPreset::Native ? "exr" : "png");
     return 0;

@@ -111,6 +111,7 @@ PivotPainter buildPivotPainter(std::span<const MeshNode> nodes, PivotPreset pres
     p.axes = p.pivots;
     for (std::size_t i = 0; i < n; ++i) {
         p.elements.push_back(elementOf(nodes[i], p.elements, int(i), source));
+        p.levels = std::max(p.levels, p.elements.back().depth + 1);
         writeTexels(p, i, source);
         const glm::vec2 texel((float(i % std::size_t(p.width)) + 0.5f) / float(p.width),
                               (float(i / std::size_t(p.width)) + 0.5f) / float(p.height));
@@ -140,14 +141,12 @@ void writePivotPainter(const PivotPainter& p, const std::filesystem::path& dir, 
 
     nlohmann::ordered_json json{{"format", "dawnforge.pivots"}, {"version", 1}, {"preset", pivotPresetName(p.preset)},
                                 {"width", p.width}, {"height", p.height}, {"uv_set", 1}};
-    int levels = 0;
     for (const PivotElement& e : p.elements) {
-        levels = std::max(levels, e.depth + 1);
         json["elements"].push_back({{"name", e.name}, {"parent", e.parent}, {"depth", e.depth},
                                     {"pivot", {e.pivot.x, e.pivot.y, e.pivot.z}},
                                     {"x_axis", {e.xAxis.x, e.xAxis.y, e.xAxis.z}}, {"extent", e.extent}});
     }
-    json["levels"] = levels;
+    json["levels"] = p.levels;
     const std::string axesFile = name + (native ? "_axes.exr" : "_axes.png");
     json["files"] = {{"pivots", name + "_pivots.exr"}, {"axes", axesFile}, {"mesh", name + ".glb"}};
 

@@ -48,6 +48,7 @@ struct PivotElement {
 struct PivotPainter {
     PivotPreset preset = PivotPreset::Unreal;
     std::vector<PivotElement> elements;  // in the file's node order (a parent before its children)
+    int levels = 0;                      // the deepest element's depth + 1
     int width = 0, height = 0;
     std::vector<float> pivots;  // texture 1, RGBA per texel, as written
     std::vector<float> axes;    // texture 2, RGBA per texel: [0, 1] for unreal (written as bytes), metres for native
