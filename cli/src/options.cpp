@@ -4,6 +4,7 @@
 #include <dawnforge/core/format.hpp>
 
 #include <cmath>
+#include <optional>
 #include <regex>
 
 namespace dawnforge::cli {
@@ -14,17 +15,27 @@ void addThreadsOption(CLI::App& command, CommonOptions& common) {
         ->capture_default_str();
 }
 
+namespace {
+
+// The whole of `text` as a finite number, or nothing.
+std::optional<double> finiteNumber(const std::string& text) {
+    try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v)) return v;
+    } catch (const std::exception&) {
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
 glm::dvec2 parseSize(const std::string& text, const char* option, const char* unit) {
     static const std::regex kSize(R"(\s*([-+0-9.eE]+)\s*[xX]\s*([-+0-9.eE]+)\s*)");
     std::smatch m;
     if (std::regex_match(text, m, kSize)) {
-        try {
-            std::size_t used1 = 0, used2 = 0;
-            const double w = std::stod(m[1].str(), &used1), h = std::stod(m[2].str(), &used2);
-            if (used1 == m[1].str().size() && used2 == m[2].str().size() && std::isfinite(w) && std::isfinite(h))
-                return {w, h};
-        } catch (const std::exception&) {
-        }
+        const std::optional<double> w = finiteNumber(m[1].str()), h = finiteNumber(m[2].str());
+        if (w && h) return {*w, *h};
     }
     throw InputError(format("{}: expected W x H in {}, e.g. 500x400 (got \"{}\")", option, unit, text));
 }
@@ -33,18 +44,8 @@ glm::dvec3 parsePoint(const std::string& text, const char* option) {
     static const std::regex kPoint(R"(\s*([^,\s]+)\s*,\s*([^,\s]+)\s*,\s*([^,\s]+)\s*)");
     std::smatch m;
     if (std::regex_match(text, m, kPoint)) {
-        glm::dvec3 p(0.0);
-        bool ok = true;
-        for (int k = 0; k < 3 && ok; ++k) {
-            try {
-                std::size_t used = 0;
-                p[k] = std::stod(m[k + 1].str(), &used);
-                ok = used == m[k + 1].str().size() && std::isfinite(p[k]);
-            } catch (const std::exception&) {
-                ok = false;
-            }
-        }
-        if (ok) return p;
+        const std::optional<double> x = finiteNumber(m[1].str()), y = finiteNumber(m[2].str()), z = finiteNumber(m[3].str());
+        if (x && y && z) return {*x, *y, *z};
     }
     throw InputError(format("{}: expected X,Y,Z, three numbers separated by commas, e.g. 6,12.8,2 (got \"{}\")", option, text));
 }
