@@ -4,6 +4,7 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/exporters/pivot_painter.hpp>
 #include <dawnforge/sim/fracture_io.hpp>
 #include <dawnforge/sim/rigidbody_io.hpp>
 
@@ -23,18 +24,26 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
     const std::string report = procgen::cityReportJson(city);
     const procgen::CityCounts counts = procgen::countCity(city);
     const std::size_t blocks = city.plan.blocks.size();
+    const std::vector<procgen::TreeSpecies> species = city.dressing.species;
     const Scene scene = procgen::takeCityScene(city);
     ensureOutputDirectory(dir);
     exporters::writeGlb(scene, dir / "city.glb");
     writeFileAtomically(dir / "city.json", report);
+    // Each tree species with its Pivot Painter 2 textures, for Unreal's wind shaders.
+    for (const procgen::TreeSpecies& s : species)
+        exporters::writePivotPainter(
+            exporters::buildPivotPainter(procgen::speciesNodes(s), exporters::PivotPreset::Unreal, s.name), dir / "trees",
+            s.name);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("generated %s%.0f x %.0f m, seed %llu: %zu blocks, %zu buildings, %zu rooms in %.2f s\n",
                 settings.tile ? format("tile {},{} of ", settings.tile->x, settings.tile->y).c_str() : "",
                 settings.size.x, settings.size.y, static_cast<unsigned long long>(settings.seed), blocks, counts.buildings,
                 counts.rooms, seconds);
-    std::printf("  triangles: LOD0 %zu, LOD1 %zu\n", counts.trianglesLod0, counts.trianglesLod1);
-    std::printf("  wrote %s and %s\n", (dir / "city.glb").string().c_str(), (dir / "city.json").string().c_str());
+    std::printf("  triangles: LOD0 %zu, LOD1 %zu; %zu trees, %zu street lamps\n", counts.trianglesLod0,
+                counts.trianglesLod1, counts.trees, counts.lamps);
+    std::printf("  wrote %s, %s and %s (tree species with Pivot Painter 2 textures)\n", (dir / "city.glb").string().c_str(),
+                (dir / "city.json").string().c_str(), (dir / "trees").string().c_str());
     return std::move(city.plan);
 }
 

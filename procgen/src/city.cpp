@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <map>
 #include <span>
 
 namespace dawnforge::procgen {
@@ -75,20 +76,133 @@ Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks) 
     return mesh;
 }
 
-std::string buildingName(int id) {
+std::string entityName(const char* kind, int id) {
     char name[32];
-    std::snprintf(name, sizeof name, "building_%05d", id);
+    std::snprintf(name, sizeof name, "%s_%05d", kind, id);
     return name;
 }
+std::string buildingName(int id) { return entityName("building", id); }
 
-nlohmann::ordered_json point(glm::dvec2 p) {
-    auto r = [](double v) { return std::round(v * 1000.0) / 1000.0; };
-    return nlohmann::ordered_json::array({r(p.x), r(p.y)});
+// The whole city's trees and lamps, each kept when its foot is in a generated tile.
+template <typename TileSlot>
+void dressTiles(City& city, TileSlot tileSlot) {
+    Dressing all = dressCity(city.plan, city.settings.recipe, city.settings.seed);
+    city.dressing.species = std::move(all.species);
+    city.dressing.lamp = std::move(all.lamp);
+    // Each entity into the tile of its foot, when that tile is generated.
+    const auto keep = [&](const auto& from, auto& to, auto tileList) {
+        for (const auto& e : from) {
+            const int slot = tileSlot(tileOf(city.settings, e.foot));
+            if (slot < 0) continue;
+            (city.tiles[std::size_t(slot)].*tileList).push_back(int(to.size()));
+            to.push_back(e);
+        }
+    };
+    keep(all.trees, city.dressing.trees, &CityTile::trees);
+    keep(all.lamps, city.dressing.lamps, &CityTile::lamps);
 }
+
+double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
+nlohmann::ordered_json point(glm::dvec2 p) { return nlohmann::ordered_json::array({round3(p.x), round3(p.y)}); }
 nlohmann::ordered_json points(std::span<const glm::dvec2> ps) {
     auto out = nlohmann::ordered_json::array();
     for (glm::dvec2 p : ps) out.push_back(point(p));
     return out;
+}
+
+// city.json's "tree_species", "trees" and "lamps".
+void addDressingJson(nlohmann::ordered_json& j, const City& city) {
+    using Json = nlohmann::ordered_json;
+    const Dressing& d = city.dressing;
+    Json species = Json::array();
+    for (const TreeSpecies& s : d.species) {
+        Json elements = Json::array();
+        for (const TreeElement& e : s.elements) elements.push_back({{"name", e.name}, {"parent", e.parent}});
+        species.push_back({{"name", s.name}, {"crown_radius", round3(s.crownRadius)}, {"elements", std::move(elements)}});
+    }
+    j["tree_species"] = std::move(species);
+    Json trees = Json::array();
+    for (const StreetTree& t : d.trees) {
+        const glm::ivec2 tile = tileOf(city.settings, t.foot);
+        trees.push_back({{"id", t.id},
+                         {"name", entityName("tree", t.id)},
+                         {"species", d.species[std::size_t(t.species)].name},
+                         {"tile", {tile.x, tile.y}},
+                         {"foot", point(t.foot)},
+                         {"height", round3(t.height)},
+                         {"yaw_degrees", round3(t.yaw * 180.0 / 3.14159265358979323846)},
+                         {"scale", round3(t.scale)}});
+    }
+    j["trees"] = std::move(trees);
+    Json lamps = Json::array();
+    for (const StreetLamp& l : d.lamps) {
+        const glm::ivec2 tile = tileOf(city.settings, l.foot);
+        lamps.push_back({{"id", l.id},
+                         {"name", entityName("lamp", l.id)},
+                         {"tile", {tile.x, tile.y}},
+                         {"foot", point(l.foot)},
+                         {"light", {round3(l.light.x), round3(l.light.y), round3(l.light.z)}},
+                         {"colour", {round3(l.colour.r), round3(l.colour.g), round3(l.colour.b)}}});
+    }
+    j["lamps"] = std::move(lamps);
+}
+
+// Mesh indices of the species' elements and of the lamp, added to the scene at first use.
+struct SharedMeshes {
+    std::map<int, std::vector<std::int32_t>> species;
+    std::int32_t lamp = -1;
+};
+
+std::uint32_t addNode(Scene& scene, std::uint32_t parent, Node node) {
+    const auto index = static_cast<std::uint32_t>(scene.nodes.size());
+    scene.nodes.push_back(std::move(node));
+    scene.nodes[parent].children.push_back(index);
+    return index;
+}
+
+// A tile's trees (each its species' element hierarchy, the trunk placed, turned and scaled)
+// and lamps, under the tile's node.
+void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std::uint32_t tileNode, SharedMeshes& shared) {
+    const Dressing& d = city.dressing;
+    const auto sharedMesh = [&](const Mesh& mesh) {
+        scene.meshes.push_back(mesh);
+        return std::int32_t(scene.meshes.size() - 1);
+    };
+    for (int index : tile.trees) {
+        const StreetTree& tree = d.trees[std::size_t(index)];
+        const TreeSpecies& species = d.species[std::size_t(tree.species)];
+        auto [it, added] = shared.species.try_emplace(tree.species);
+        if (added)
+            for (const TreeElement& e : species.elements) it->second.push_back(sharedMesh(e.mesh));
+        const std::string name = entityName("tree", tree.id);
+        std::vector<std::uint32_t> nodes;
+        for (std::size_t k = 0; k < species.elements.size(); ++k) {
+            const TreeElement& e = species.elements[k];
+            Node n;
+            n.name = e.parent < 0 ? name : name + "_" + e.name;
+            n.mesh = it->second[k];
+            n.translation = e.translation;
+            n.rotation = e.rotation;
+            if (e.parent < 0) {
+                n.translation = toWorld(tree.foot, tree.height);
+                n.rotation = glm::angleAxis(float(tree.yaw), glm::vec3(0, 1, 0)) *
+                             glm::angleAxis(float(0.5 * 3.14159265358979323846), glm::vec3(0, 0, 1)) * e.rotation;
+                n.scale = glm::vec3(float(tree.scale));
+                n.extrasJson = format(R"({{"species":"{}"}})", species.name);
+            }
+            nodes.push_back(addNode(scene, e.parent < 0 ? tileNode : nodes[std::size_t(e.parent)], std::move(n)));
+        }
+    }
+    for (int index : tile.lamps) {
+        const StreetLamp& lamp = d.lamps[std::size_t(index)];
+        if (shared.lamp < 0) shared.lamp = sharedMesh(d.lamp);
+        Node n;
+        n.name = entityName("lamp", lamp.id);
+        n.mesh = shared.lamp;
+        n.translation = toWorld(lamp.foot, lamp.height);
+        n.rotation = glm::angleAxis(float(lamp.yaw), glm::vec3(0, 1, 0));
+        addNode(scene, tileNode, std::move(n));
+    }
 }
 
 }  // namespace
@@ -129,7 +243,10 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
 
     for (int j = 0; j < count.y; ++j)
         for (int i = 0; i < count.x; ++i)
-            if (!settings.tile || *settings.tile == glm::ivec2(i, j)) city.tiles.push_back({{i, j}, {}, {}, {}});
+            if (!settings.tile || *settings.tile == glm::ivec2(i, j)) {
+                city.tiles.emplace_back();
+                city.tiles.back().index = {i, j};
+            }
     // Where tile t sits in city.tiles (row by row), or -1 when it is not generated.
     auto tileSlot = [&](glm::ivec2 t) -> int {
         if (settings.tile) return t == *settings.tile ? 0 : -1;
@@ -163,6 +280,7 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
         city.buildings.push_back(std::move(b));
     }
     report(0.9);
+    dressTiles(city, [&](glm::ivec2 t) { return tileSlot(t); });
     tbb::parallel_for(std::size_t(0), city.tiles.size(), [&](std::size_t k) {
         city.tiles[k].ground = tileGround(city, city.tiles[k].index, city.tiles[k].blocks);
     });
@@ -181,6 +299,12 @@ CityCounts countCity(const City& city) {
         c.trianglesLod1 += b.lod1.triangleCount();
     }
     for (const CityTile& t : city.tiles) c.trianglesGround += t.ground.triangleCount();
+    c.trees = city.dressing.trees.size();
+    c.lamps = city.dressing.lamps.size();
+    for (const StreetTree& tree : city.dressing.trees)
+        for (const TreeElement& e : city.dressing.species[std::size_t(tree.species)].elements)
+            c.trianglesDressing += e.mesh.triangleCount();
+    c.trianglesDressing += c.lamps * city.dressing.lamp.triangleCount();
     return c;
 }
 
@@ -219,8 +343,13 @@ std::string cityReportJson(const City& city) {
                    {"floors", counts.floors},
                    {"rooms", counts.rooms},
                    {"windows", counts.windows},
+                   {"trees", counts.trees},
+                   {"lamps", counts.lamps},
                    {"triangles",
-                    {{"lod0", counts.trianglesLod0}, {"lod1", counts.trianglesLod1}, {"ground", counts.trianglesGround}}}};
+                    {{"lod0", counts.trianglesLod0},
+                     {"lod1", counts.trianglesLod1},
+                     {"ground", counts.trianglesGround},
+                     {"dressing", counts.trianglesDressing}}}};
     j["coastline"] = points(city.plan.coastline);
     j["streets"] = std::move(streets);
     Json blocks = Json::array();
@@ -266,23 +395,20 @@ std::string cityReportJson(const City& city) {
         buildings.push_back(std::move(one));
     }
     j["buildings"] = std::move(buildings);
+    addDressingJson(j, city);
     return j.dump(1) + "\n";
 }
 
 Scene takeCityScene(City& city) {
     Scene scene;
+    SharedMeshes sharedMeshes;
     for (CityTile& tile : city.tiles) {
         const auto tileNode = static_cast<std::uint32_t>(scene.nodes.size());
         Node node;
         node.name = format("tile_{}_{}", tile.index.x, tile.index.y);
         scene.nodes.push_back(node);
         scene.roots.push_back(tileNode);
-        auto addChild = [&](std::uint32_t parent, Node child) {
-            const auto index = static_cast<std::uint32_t>(scene.nodes.size());
-            scene.nodes.push_back(std::move(child));
-            scene.nodes[parent].children.push_back(index);
-            return index;
-        };
+        auto addChild = [&](std::uint32_t parent, Node child) { return addNode(scene, parent, std::move(child)); };
         auto meshNode = [&](Mesh mesh) {
             Node n;
             n.name = mesh.name;
@@ -303,6 +429,7 @@ Scene takeCityScene(City& city) {
             addChild(buildingNode, meshNode(std::move(b.lod0)));
             addChild(buildingNode, meshNode(std::move(b.lod1)));
         }
+        addDressingNodes(scene, city, tile, tileNode, sharedMeshes);
     }
     return scene;
 }

@@ -46,6 +46,9 @@ constexpr Range kPitch{0.0, 3.0, true, false};
 constexpr Range kFloors{1.0, 200.0, false, false};
 constexpr Range kExtraFloors{0.0, 200.0, false, false};
 constexpr Range kBool{};
+constexpr Range kScaleJitter{0.0, 0.5, false, false};
+constexpr Range kLampHeight{2.5, 15.0, false, false};
+constexpr Range kLampArm{0.0, 3.0, false, false};
 
 using Ref = std::variant<double*, int*, bool*>;
 using Value = std::variant<double, int, bool>;
@@ -136,11 +139,21 @@ const std::array kFields{
     DAWNFORGE_RECIPE_FIELD(roofs, parapetHeight, kNonNegative),
     DAWNFORGE_RECIPE_FIELD(roofs, parapetWidth, kPositive),
     DAWNFORGE_RECIPE_FIELD(roofs, maxPitchedFloors, kExtraFloors),
+
+    DAWNFORGE_RECIPE_FIELD(dressing, treeSpacing, kNonNegative),
+    DAWNFORGE_RECIPE_FIELD(dressing, treeChance, kChance),
+    DAWNFORGE_RECIPE_FIELD(dressing, treeScaleJitter, kScaleJitter),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampSpacing, kNonNegative),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampHeight, kLampHeight),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampArm, kLampArm),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampRed, kChance),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampGreen, kChance),
+    DAWNFORGE_RECIPE_FIELD(dressing, lampBlue, kChance),
 };
 
 #undef DAWNFORGE_RECIPE_FIELD
 
-constexpr std::array<const char*, 6> kSections{"streets", "coast", "lots", "buildings", "interiors", "roofs"};
+constexpr std::array<const char*, 7> kSections{"streets", "coast", "lots", "buildings", "interiors", "roofs", "dressing"};
 constexpr const char* kDescription = "description";  // free text for humans, ignored
 
 std::string snakeCase(std::string_view camel) {
@@ -343,6 +356,14 @@ void validateRecipe(const CityRecipe& recipe, std::string_view source) {
         throw InputError(format("{}: roofs.flat, roofs.hip, roofs.gable and roofs.shed are weights; at least one "
                                 "must be > 0",
                                 source));
+    const DressingRecipe& dressing = recipe.dressing;
+    for (const char* spacing : {"treeSpacing", "lampSpacing"}) {
+        const auto [v, vPath] = one("dressing", spacing);
+        if (v > 0.0 && v < 4.0)
+            throw InputError(format("{}: {} must be 0 (none) or at least 4 (got {})", source, vPath, v));
+    }
+    if (!(std::max({dressing.lampRed, dressing.lampGreen, dressing.lampBlue}) > 0.0))
+        throw InputError(format("{}: dressing.lamp_red, lamp_green and lamp_blue are a colour; one must be > 0", source));
 }
 
 std::string recipeJson(const CityRecipe& recipe) {

@@ -1,7 +1,9 @@
 #version 450 core
 // Evaluates the vertex shaders' functions for a list of inputs, so tests can compare the
-// GPU with the CPU (ocean.cpp): mode 0 = waves at plane points, mode 1 = grid vertices.
+// GPU with the CPU (ocean.cpp): mode 0 = waves at plane points, mode 1 = grid vertices,
+// mode 2 = tree-space points bent by the wind (wind.glsl, Pivot Painter textures bound).
 #include "ocean_waves.glsl"
+#include "wind.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Inputs { vec4 inputs[]; };
 layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
@@ -12,6 +14,7 @@ layout(binding = 5) uniform sampler2D waveNoise;
 layout(location = 0) uniform int mode;
 layout(location = 1) uniform int count;
 layout(location = 2) uniform mat4 inverseViewProjection;
+layout(location = 3) uniform vec4 windDirSpeed;  // mode 2: unit wind direction (tree space), speed (m/s)
 void main() {
     int i = int(gl_GlobalInvocationID.x);
     if (i >= count) return;
@@ -24,6 +27,12 @@ void main() {
                               ocean.noiseDriftY, in_.w);
         outputs[2 * i] = vec4(d, h);
         outputs[2 * i + 1] = vec4(normal, 0.0);
+    } else if (mode == 2) {  // in: (point, phase), (uv1, time, 0); out: the bent point, its bent normal (0, 1, 0)
+        vec3 p = in_.xyz, n = vec3(0.0, 1.0, 0.0);
+        vec4 in2 = inputs[i + count];
+        windBend(p, n, in2.xy, windDirSpeed.xyz, windDirSpeed.w, in2.z, in_.w);
+        outputs[2 * i] = vec4(p, 1.0);
+        outputs[2 * i + 1] = vec4(n, 0.0);
     } else {          // in: (ndc x, ndc y, level, 0); out: the grid vertex
         outputs[2 * i] = vec4(oceanGridVertex(in_.xy, inverseViewProjection, in_.z), 1.0);
         outputs[2 * i + 1] = vec4(0.0);

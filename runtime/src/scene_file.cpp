@@ -6,6 +6,7 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/read_file.hpp>
 
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -130,6 +131,19 @@ OceanSettings readOcean(const Reader& r, const Json& j) {
     return ocean;
 }
 
+WindSettings readWind(const Reader& r, const Json& j) {
+    r.object(j, "wind", {"direction", "speed"});
+    WindSettings wind;
+    if (j.contains("direction")) {
+        const glm::dvec3 d = r.vec3(j["direction"], "wind.direction");
+        if (!(std::hypot(d.x, d.z) > 1e-6))
+            r.fail(format("\"wind.direction\" must point somewhere level: x or z must not be 0 (got {})", shown(j["direction"])));
+        wind.direction = glm::normalize(glm::dvec3(d.x, 0.0, d.z));
+    }
+    if (j.contains("speed")) wind.speed = r.number(j["speed"], "wind.speed", 0.0, false, 60.0, false);
+    return wind;
+}
+
 DestructionInstance readDestruction(const Reader& r, const Json& j, const std::string& path) {
     r.object(j, path, {"vat", "name", "position", "yaw_degrees", "start_time", "replaces"});
     DestructionInstance d;
@@ -181,7 +195,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
         r.fail(format("not valid JSON: {}", oneLine(e.what())));
     }
     if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
-    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "destruction", "cameras"});
+    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras"});
     const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
     if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
     const Json& v = r.required(root, "", "version", "expected \"version\": 1");
@@ -194,6 +208,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     if (root.contains("time")) scene.time = r.number(root["time"], "time", 0.0, false, kInf, false);
     if (root.contains("fps")) scene.fps = r.number(root["fps"], "fps", 0.0, true, kInf, false);
     if (root.contains("ocean") && !root["ocean"].is_null()) scene.ocean = readOcean(r, root["ocean"]);
+    if (root.contains("wind")) scene.wind = readWind(r, root["wind"]);
     if (root.contains("destruction")) {
         const Json& list = array(r, root["destruction"], "destruction", "{\"vat\": ..., \"name\": ...} objects");
         for (std::size_t i = 0; i < list.size(); ++i)
@@ -252,6 +267,7 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
         j["ocean"] = {{"level", scene.ocean->level},
                       {"grid", Json::array({scene.ocean->columns, scene.ocean->rows})},
                       {"shore_depth", scene.ocean->shoreDepth}};
+    j["wind"] = {{"direction", vec(scene.wind.direction)}, {"speed", scene.wind.speed}};
     j["destruction"] = Json::array();
     for (const DestructionInstance& d : scene.destruction) {
         j["destruction"].push_back({{"vat", relativePath(d.vatDir, relativeTo)},

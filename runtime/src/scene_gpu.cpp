@@ -38,6 +38,19 @@ glm::uvec4 instanceBlocks(std::uint32_t id) {
     return blocks;
 }
 
+// Culling: is the box outside one of the six planes of `viewProj`?
+bool outsideFrustum(const glm::mat4& viewProj, glm::vec3 lo, glm::vec3 hi) {
+    const glm::mat4 m = glm::transpose(viewProj);
+    const glm::vec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
+    for (const glm::vec4& p : planes) {
+        const glm::vec3 far(p.x > 0 ? hi.x : lo.x, p.y > 0 ? hi.y : lo.y, p.z > 0 ? hi.z : lo.z);
+        if (glm::dot(glm::vec3(p), far) + p.w < 0.0f) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 void vertexLayout(GLuint vao) {
     glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, position));
     glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, normal));
@@ -52,6 +65,21 @@ void vertexLayout(GLuint vao) {
     }
 }
 
+void instancedLayout(GLuint vao, GLuint vertices, GLuint indices, GLuint instances, GLsizei instanceStride,
+                     GLuint blocksOffset, GLuint buildingOffset) {
+    vertexLayout(vao);
+    glVertexArrayVertexBuffer(vao, 0, vertices, 0, sizeof(StaticVertex));
+    glVertexArrayElementBuffer(vao, indices);
+    glVertexArrayAttribIFormat(vao, 6, 4, GL_UNSIGNED_INT, blocksOffset);
+    glVertexArrayAttribIFormat(vao, 7, 1, GL_UNSIGNED_INT, buildingOffset);
+    for (GLuint a : {6u, 7u}) {
+        glEnableVertexArrayAttrib(vao, a);
+        glVertexArrayAttribBinding(vao, a, 1);
+    }
+    glVertexArrayVertexBuffer(vao, 1, instances, 0, instanceStride);
+    glVertexArrayBindingDivisor(vao, 1, 1);
+}
+
 StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, const glm::mat3& normalMatrix) {
     StaticVertex v{};
     v.position = glm::vec3(world * glm::vec4(m.positions[i], 1.0f));
@@ -64,21 +92,9 @@ StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, 
     return v;
 }
 
-// Culling: is the box outside one of the six planes of `viewProj`?
-bool outsideFrustum(const glm::mat4& viewProj, glm::vec3 lo, glm::vec3 hi) {
-    const glm::mat4 m = glm::transpose(viewProj);
-    const glm::vec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
-    for (const glm::vec4& p : planes) {
-        const glm::vec3 far(p.x > 0 ? hi.x : lo.x, p.y > 0 ? hi.y : lo.y, p.z > 0 ? hi.z : lo.z);
-        if (glm::dot(glm::vec3(p), far) + p.w < 0.0f) return true;
-    }
-    return false;
-}
-
-}  // namespace
-
 void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     shadowSize_ = shadowMapSize;
+    wind_ = scene.wind;
     surface_ = gl::makeProgram("building.vert", "surface.frag");
     surfaceDepth_ = gl::makeProgram("building.vert", "depth.frag", {"DEPTH_PASS"});
     vat_ = gl::makeProgram("vat.vert", "surface.frag");
@@ -135,6 +151,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
 void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
     const std::filesystem::path file = cityDir / "city.glb";
     std::vector<MeshNode> nodes = loadMeshNodes(file);
+    trees_.load(nodes, instanceBlocks(0xffffu), boundsMin_, boundsMax_);
     const std::optional<BakedCity> baked = loadBakedCity(cityDir, readBinaryFile(file));
     std::vector<StaticVertex> vertices;
     std::vector<std::uint32_t> indices;
@@ -200,18 +217,8 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
     vertices_ = gl::makeBuffer(vertices);
     indices_ = gl::makeBuffer(indices);
     instances_ = gl::makeBuffer(instances);
-    const GLuint vao = vao_.id();
-    vertexLayout(vao);
-    glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(StaticVertex));
-    glVertexArrayElementBuffer(vao, indices_.id());
-    glVertexArrayAttribIFormat(vao, 6, 4, GL_UNSIGNED_INT, offsetof(InstanceData, blocks));
-    glVertexArrayAttribIFormat(vao, 7, 1, GL_UNSIGNED_INT, offsetof(InstanceData, building));
-    for (GLuint a : {6u, 7u}) {
-        glEnableVertexArrayAttrib(vao, a);
-        glVertexArrayAttribBinding(vao, a, 1);
-    }
-    glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(InstanceData));
-    glVertexArrayBindingDivisor(vao, 1, 1);
+    instancedLayout(vao_.id(), vertices_.id(), indices_.id(), instances_.id(), sizeof(InstanceData),
+                    offsetof(InstanceData, blocks), offsetof(InstanceData, building));
     if (baked) {
         loadLightmaps(baked->lightmaps);
         if (baked->overlook) loadOverlook(*baked->overlook);
@@ -437,7 +444,8 @@ std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj
 
 std::size_t SceneGpu::drawShadow(double time) {
     // The falling pieces cast shadows too.
-    return drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time) + drawVats(time, true, nullptr);
+    return drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time) + trees_.draw(wind_, time, &lightViewProj_, nullptr) +
+           drawVats(time, true, nullptr);
 }
 
 std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time,
@@ -464,7 +472,7 @@ std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, d
         commands.push_back({r.count, 1, r.firstIndex, r.baseVertex, b.instance});
         stats.triangles += r.count / 3;
     }
-    return drawStatic(commands);
+    return drawStatic(commands) + trees_.draw(wind_, time, nullptr, &stats);
 }
 
 std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {

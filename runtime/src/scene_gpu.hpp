@@ -3,6 +3,8 @@
 // vertex/index buffer with per-building instance data, the atlas and interior textures,
 // the destruction VATs, the ocean grid, the shadow map and the overlook depth.
 #include "gl.hpp"
+#include "static_vertex.hpp"
+#include "trees.hpp"
 
 #include <dawnforge/runtime/lightmaps.hpp>
 #include <dawnforge/runtime/ocean.hpp>
@@ -16,16 +18,6 @@
 #include <vector>
 
 namespace dawnforge::runtime {
-
-// Per-vertex data of static meshes (buildings, ground): 64 bytes.
-struct StaticVertex {
-    glm::vec3 position;
-    glm::vec3 normal;
-    glm::vec2 uv0, uv1, uv2;
-    std::uint8_t material;
-    std::uint8_t pad[3];
-    glm::vec3 light;  // baked lightmap: (u, v, layer) in the lightmap array; layer < 0: none
-};
 
 // Per-instance data: the material → atlas block mapping (16 codes, one byte each) and the
 // building id. Every building is one instance of the same multi-draw, each with its own mapping.
@@ -117,6 +109,8 @@ private:
     int roomStyles_ = 1;
     gl::Buffer materialsUbo_;
     std::vector<Vat> vats_;
+    TreeGpu trees_;
+    WindSettings wind_;
     glm::dvec3 boundsMin_{-1.0}, boundsMax_{1.0};
 
     // Shadow map and overlook depth.

@@ -2,6 +2,7 @@
 #include "test_support.hpp"
 
 #include <dawnforge/bake/bake.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
@@ -565,6 +566,28 @@ TEST(CliCity, WritesAValidGlbAndAReportThatAgree) {
         for (std::uint8_t id : n.mesh.materialIds) ASSERT_LT(id, 16);
     }
     EXPECT_EQ(lod0, report["buildings"].size());
+    // Every tree and lamp of the report stands in the GLB where the report says (a trunk's or a
+    // lamp's node origin is its foot: glTF (x, height, -y)).
+    std::map<std::string, glm::vec3> origins;
+    for (const MeshNode& n : nodes) origins[n.name] = glm::vec3(n.world[3]);
+    for (const char* kind : {"trees", "lamps"}) {
+        ASSERT_GT(report[kind].size(), 10u) << kind;
+        for (const auto& e : report[kind]) {
+            const auto it = origins.find(e["name"].get<std::string>());
+            ASSERT_NE(it, origins.end()) << e["name"];
+            EXPECT_NEAR(it->second.x, e["foot"][0].get<double>(), 1e-3);
+            EXPECT_NEAR(it->second.z, -e["foot"][1].get<double>(), 1e-3);
+        }
+    }
+    // Each species with its Pivot Painter 2 files for Unreal.
+    for (const auto& species : report["tree_species"]) {
+        const std::string name = species["name"].get<std::string>();
+        const nlohmann::json pp = nlohmann::json::parse(test::readText(dir / "c" / "trees" / (name + "_pivots.json")));
+        EXPECT_EQ(pp["preset"], "unreal");
+        EXPECT_EQ(pp["elements"].size(), species["elements"].size());
+        EXPECT_TRUE(std::filesystem::exists(dir / "c" / "trees" / (name + "_pivots.exr"))) << name;
+        EXPECT_TRUE(std::filesystem::exists(dir / "c" / "trees" / (name + "_axes.png"))) << name;
+    }
 }
 
 TEST(CliCity, SameBytesOnOneAndTwoThreadsAndATileMatchesTheCity) {
@@ -752,6 +775,28 @@ TEST(CliRender, TimeOfDayCameraAndFrameChangeThePicture) {
     EXPECT_LT(night.first, 0.6 * noon.first);
     EXPECT_NE(mean({"--camera", "low"}).second, noon.second);
     EXPECT_NE(mean({"--camera", "low", "--frame", "9"}).second, mean({"--camera", "low", "--frame", "0"}).second);
+}
+
+// Trees sway in the vertex shader: with wind, frames differ; without, they are the same bytes.
+// The camera looks down on a street tree from 30 m, so no building hides it.
+TEST(CliRender, TreesSwayInTheWindAndStandStillWithout) {
+    RenderFixture f;
+    const nlohmann::json city = nlohmann::json::parse(test::readText(f.dir / "city" / "city.json"));
+    ASSERT_FALSE(city["trees"].empty());
+    const double x = city["trees"][0]["foot"][0].get<double>(), z = -city["trees"][0]["foot"][1].get<double>();
+    const auto frame = [&](double speed, int frame) {
+        f.writeScene(dawnforge::format(R"("city": "city", "time_of_day": 12, "wind": {{"speed": {}}},
+                               "cameras": [{{"name": "tree", "position": [{}, 30, {}], "target": [{}, 4, {}]}}])",
+                            speed, x + 1.0, z + 1.0, x, z));
+        const RunResult r = f.render({"--frame", std::to_string(frame)});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readBytes(f.dir / "out.png");
+    };
+    const auto still = frame(0.0, 0);
+    EXPECT_EQ(still, frame(0.0, 45));
+    const auto windy = frame(15.0, 0);
+    EXPECT_NE(windy, still);
+    EXPECT_NE(frame(15.0, 45), windy);
 }
 
 TEST(CliRender, BadScenesExit2WithOneLine) {

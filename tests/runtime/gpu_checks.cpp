@@ -2,6 +2,7 @@
 
 #include "gl.hpp"
 #include "ocean_gpu.hpp"
+#include "trees.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -11,7 +12,7 @@ namespace {
 
 // Runs gpu_checks.comp over `inputs`; two vec4 outputs per input.
 std::vector<glm::vec4> run(int mode, const std::vector<glm::vec4>& inputs, const OceanUniforms& ocean, GLuint noise,
-                           const glm::mat4& inverseViewProjection) {
+                           const glm::mat4& inverseViewProjection, glm::vec4 wind = glm::vec4(0.0f), int count = -1) {
     const gl::Program program = gl::makeComputeProgram("gpu_checks.comp");
     const gl::Buffer in = gl::makeBuffer(inputs);
     const gl::Buffer out = gl::makeBuffer(nullptr, inputs.size() * 2 * sizeof(glm::vec4), GL_MAP_READ_BIT);
@@ -22,11 +23,13 @@ std::vector<glm::vec4> run(int mode, const std::vector<glm::vec4>& inputs, const
     glBindBufferBase(GL_UNIFORM_BUFFER, 2, ubo.id());
     if (noise) glBindTextureUnit(5, noise);
     glUniform1i(0, mode);
-    glUniform1i(1, int(inputs.size()));
+    if (count < 0) count = int(inputs.size());
+    glUniform1i(1, count);
     glUniformMatrix4fv(2, 1, GL_FALSE, glm::value_ptr(inverseViewProjection));
-    glDispatchCompute(GLuint((inputs.size() + 63) / 64), 1, 1);
+    glUniform4fv(3, 1, glm::value_ptr(wind));
+    glDispatchCompute(GLuint((count + 63) / 64), 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    std::vector<glm::vec4> result(inputs.size() * 2);
+    std::vector<glm::vec4> result(std::size_t(count) * 2);
     glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(result.size() * sizeof(glm::vec4)), result.data());
     gl::check("gpu checks");
     return result;
@@ -61,6 +64,22 @@ std::vector<glm::dvec3> gpuGridVertices(const OceanGrid& grid) {
     std::vector<glm::dvec3> vertices(inputs.size());
     for (std::size_t i = 0; i < inputs.size(); ++i) vertices[i] = glm::dvec3(out[2 * i]);
     return vertices;
+}
+
+std::vector<glm::dvec3> gpuWind(const exporters::PivotPainter& painter, const std::vector<GpuWindPoint>& points,
+                                glm::dvec3 direction, double speed, double time, double phase) {
+    const PivotTextures textures = uploadPivotTextures(painter);
+    glBindTextureUnit(kPivotUnit, textures.pivots.id());
+    glBindTextureUnit(kAxisUnit, textures.axes.id());
+    // The first half of the inputs: (point, phase); the second: (uv1, time, 0).
+    std::vector<glm::vec4> inputs;
+    for (const GpuWindPoint& p : points) inputs.emplace_back(p.position, float(phase));
+    for (const GpuWindPoint& p : points) inputs.emplace_back(p.uv1, float(time), 0.0f);
+    const std::vector<glm::vec4> out = run(2, inputs, oceanUniforms(defaultWaves(), 0.0, 1.0, 2), 0, glm::mat4(1.0f),
+                                           glm::vec4(glm::vec3(direction), float(speed)), int(points.size()));
+    std::vector<glm::dvec3> bent(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) bent[i] = glm::dvec3(out[2 * i]);
+    return bent;
 }
 
 }  // namespace dawnforge::runtime

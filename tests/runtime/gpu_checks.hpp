@@ -2,6 +2,7 @@
 // The shaders' functions evaluated on the GPU (a compute shader including the same GLSL
 // the vertex shaders use), so tests can hold them against the CPU versions in ocean.hpp.
 // A GL context must be current.
+#include <dawnforge/exporters/pivot_painter.hpp>
 #include <dawnforge/runtime/ocean.hpp>
 
 #include <glm/glm.hpp>
@@ -20,5 +21,14 @@ std::vector<GpuWaveSample> gpuWaves(const WaveSet& waves, const WaveNoise& noise
                                     double t, double attenuation);
 // Every vertex of `grid` (row-major, row 0 first) as the ocean vertex shader places it before displacement.
 std::vector<glm::dvec3> gpuGridVertices(const OceanGrid& grid);
+
+// Tree-space points, each with the TEXCOORD_1 of the element that carries it, as wind.glsl
+// bends them with `painter`'s textures (native preset), the wind blowing to `direction` (unit).
+struct GpuWindPoint {
+    glm::vec3 position;
+    glm::vec2 uv1;
+};
+std::vector<glm::dvec3> gpuWind(const exporters::PivotPainter& painter, const std::vector<GpuWindPoint>& points,
+                                glm::dvec3 direction, double speed, double time, double phase);
 
 }  // namespace dawnforge::runtime

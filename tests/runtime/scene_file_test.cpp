@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -26,6 +28,7 @@ const std::string kFull = R"({
   "city": "city",
   "time_of_day": 17.5, "time": 3.0, "fps": 24,
   "ocean": { "level": -1.25, "grid": [96, 80], "shore_depth": 6.5 },
+  "wind": { "direction": [3, 7, 4], "speed": 12.5 },
   "destruction": [
     { "vat": "vat", "name": "tower_native", "position": [1, 2.5, -3], "yaw_degrees": 90, "start_time": 1.0,
       "replaces": 14 },
@@ -60,6 +63,8 @@ TEST(SceneFile, ParsesEveryValue) {
     EXPECT_EQ(s.ocean->columns, 96);
     EXPECT_EQ(s.ocean->rows, 80);
     EXPECT_EQ(s.ocean->shoreDepth, 6.5);
+    EXPECT_NEAR(glm::length(s.wind.direction - glm::dvec3(0.6, 0.0, 0.8)), 0.0, 1e-12) << "level and unit";
+    EXPECT_EQ(s.wind.speed, 12.5);
     ASSERT_EQ(s.destruction.size(), 2u);
     EXPECT_EQ(s.destruction[0].vatDir, std::filesystem::path("/scenes/harbour/vat"));
     EXPECT_EQ(s.destruction[0].name, "tower_native");
@@ -90,6 +95,9 @@ TEST(SceneFile, Defaults) {
     EXPECT_EQ(s.time, 0.0);
     EXPECT_EQ(s.fps, 30.0);
     EXPECT_FALSE(s.ocean);
+    EXPECT_NEAR(glm::length(s.wind.direction), 1.0, 1e-6);
+    EXPECT_EQ(s.wind.direction.y, 0.0);
+    EXPECT_EQ(s.wind.speed, 4.0);
     EXPECT_TRUE(s.destruction.empty());
     EXPECT_TRUE(s.cameras.empty());
 
@@ -122,6 +130,8 @@ TEST(SceneFile, RoundTrips) {
         EXPECT_EQ(back.ocean->columns, s.ocean->columns);
         EXPECT_EQ(back.ocean->rows, s.ocean->rows);
         EXPECT_EQ(back.ocean->shoreDepth, s.ocean->shoreDepth);
+        EXPECT_EQ(back.wind.direction, s.wind.direction);
+        EXPECT_EQ(back.wind.speed, s.wind.speed);
         ASSERT_EQ(back.destruction.size(), s.destruction.size());
         for (std::size_t i = 0; i < s.destruction.size(); ++i) {
             EXPECT_EQ(back.destruction[i].vatDir, s.destruction[i].vatDir) << json;
@@ -172,6 +182,12 @@ TEST(SceneFile, RejectsBadValuesNamingTheKey) {
         {edited(R"("level": -1.25)", R"("level": "low")"), "ocean.level"},
         {edited(R"("shore_depth": 6.5)", R"("shore_depth": 0)"), "ocean.shore_depth"},
         {R"({"format": "dawnforge.scene", "version": 1, "ocean": 3})", "\"ocean\" must be an object"},
+        {edited(R"("speed": 12.5)", R"("speed": -1)"), "wind.speed"},
+        {edited(R"("speed": 12.5)", R"("speed": 61)"), "wind.speed"},
+        {edited(R"("speed": 12.5)", R"("gust": 3)"), "\"wind.gust\""},
+        {edited(R"("direction": [3, 7, 4])", R"("direction": [0, 5, 0])"), "wind.direction"},
+        {edited(R"("direction": [3, 7, 4])", R"("direction": [1, 0])"), "wind.direction"},
+        {R"({"format": "dawnforge.scene", "version": 1, "wind": 3})", "\"wind\" must be an object"},
         {edited(R"("fov_degrees": 60)", R"("fov_degrees": 179)"), "cameras[0].fov_degrees"},
         {edited(R"("fov_degrees": 60)", R"("fov_degrees": 1)"), "cameras[0].fov_degrees"},
         {edited(R"("target": [0, 0, 0])", R"("target": [0, 40, 120])"), "cameras[0]"},

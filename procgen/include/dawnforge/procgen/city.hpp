@@ -11,6 +11,7 @@
 #include <dawnforge/core/progress.hpp>
 #include <dawnforge/core/scene.hpp>
 #include <dawnforge/procgen/building.hpp>
+#include <dawnforge/procgen/dressing.hpp>
 #include <dawnforge/procgen/plan.hpp>
 #include <dawnforge/procgen/recipe.hpp>
 
@@ -36,6 +37,7 @@ struct CityTile {
     Mesh ground;                 // terrain cells (streets are the ground between blocks) and block kerbs
     std::vector<int> buildings;  // indices into City::buildings
     std::vector<int> blocks;     // ids of the blocks whose kerb is in this tile
+    std::vector<int> trees, lamps;  // indices into City::dressing's trees and lamps (by their foot's tile)
 };
 
 struct City {
@@ -43,6 +45,7 @@ struct City {
     CityPlan plan;
     std::vector<Building> buildings;  // of the generated tiles, in lot order (only lots that hold one)
     std::vector<CityTile> tiles;      // the generated tiles, row by row
+    Dressing dressing;                // its trees and lamps: those of the generated tiles (ids of the whole city)
 };
 
 // The number of tiles along x and y.
@@ -56,16 +59,20 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress = noP
 // What a generated city holds (city.json's "counts", the CLI's summary, the benchmark).
 struct CityCounts {
     std::size_t buildings = 0, floors = 0, rooms = 0, windows = 0;
-    std::size_t trianglesLod0 = 0, trianglesLod1 = 0, trianglesGround = 0;
+    std::size_t trees = 0, lamps = 0;
+    std::size_t trianglesLod0 = 0, trianglesLod1 = 0, trianglesGround = 0, trianglesDressing = 0;
 };
 CityCounts countCity(const City& city);
 
-// city.json: seed, size, tiles, recipe, counts, coastline, streets, blocks, lots and buildings.
+// city.json: seed, size, tiles, recipe, counts, coastline, streets, blocks, lots, buildings,
+// tree species, trees and lamps.
 std::string cityReportJson(const City& city);
 
 // The glTF scene: one root node per tile ("tile_I_J") holding its ground ("ground_I_J") and
 // one node per building ("building_NNNNN") whose children show its LOD0 and LOD1 meshes
-// ("building_NNNNN_lod0", "..._lod1"). Moves the meshes out of `city`.
+// ("building_NNNNN_lod0", "..._lod1"), one node hierarchy per tree ("tree_NNNNN", the trunk,
+// and "tree_NNNNN_<element>" below it, sharing its species' meshes) and one node per lamp
+// ("lamp_NNNNN", sharing the mesh "lamp"). Moves the meshes out of `city`.
 Scene takeCityScene(City& city);
 
 }  // namespace dawnforge::procgen

@@ -80,6 +80,19 @@ struct RoofRecipe {
     int maxPitchedFloors = 8;      // taller buildings get flat roofs
 };
 
+// Street trees and street lamps (dressing.hpp). A spacing of 0 means none.
+struct DressingRecipe {
+    double treeSpacing = 14.0;     // between street-tree slots along a sidewalk: 0 or >= 4
+    double treeChance = 0.75;      // a slot holds a tree
+    double treeScaleJitter = 0.2;  // a tree's scale is 1 ± this
+    double lampSpacing = 26.0;     // between lamps along a sidewalk: 0 or >= 4
+    double lampHeight = 5.5;       // of the lamp head above the sidewalk
+    double lampArm = 1.2;          // the arm reaches this far towards the street
+    double lampRed = 1.0;          // the light's linear colour (the largest component is scaled to 1)
+    double lampGreen = 0.72;
+    double lampBlue = 0.42;
+};
+
 struct CityRecipe {
     StreetRecipe streets;
     CoastRecipe coast;
@@ -87,6 +100,7 @@ struct CityRecipe {
     BuildingRecipe buildings;
     InteriorRecipe interiors;
     RoofRecipe roofs;
+    DressingRecipe dressing;
 };
 
 // Reads a recipe: every key optional; unknown keys, wrong types and out-of-range values

@@ -10,6 +10,8 @@
 //     "ocean": { "level": -0.8,                          sea level (m); default -0.8
 //                "grid": [192, 160],                     projected grid columns, rows: 2..1024; default [192, 160]
 //                "shore_depth": 4.0 },                   depth (m, > 0) at which waves reach full amplitude; default 4
+//     "wind": { "direction": [1, 0, 0.3],                where the wind blows to; only x and z count; default [1, 0, 0.3]
+//               "speed": 4 },                            m/s in [0, 60]: how far trees bend; default 4
 //     "destruction": [ { "vat": "vat",                   required: a folder written by `dawnforge vat`
 //                        "name": "tower_native",         required: the VAT's <name> (<name>_data.json, ...)
 //                        "position": [0, 0, 0],          where the VAT's origin goes (m); default [0, 0, 0]
@@ -50,6 +52,12 @@ struct OceanSettings {
     double shoreDepth = 4.0;  // waves reach full amplitude this deep
 };
 
+// What sways the city's trees (wind.glsl).
+struct WindSettings {
+    glm::dvec3 direction{0.957826, 0.0, 0.287348};  // unit and level: where it blows to
+    double speed = 4.0;                              // m/s
+};
+
 struct DestructionInstance {
     std::filesystem::path vatDir;
     std::string name;
@@ -66,6 +74,7 @@ struct SceneFile {
     double time = 0.0;                             // seconds since the scene started (what `render` draws unless --frame)
     double fps = 30.0;                             // for --frame F: time = F / fps
     std::optional<OceanSettings> ocean;
+    WindSettings wind;
     std::vector<DestructionInstance> destruction;
     std::vector<SceneCamera> cameras;              // the first is the default
 };

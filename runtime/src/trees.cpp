@@ -1,0 +1,203 @@
+#include "trees.hpp"
+
+#include "static_vertex.hpp"
+
+#include <dawnforge/core/format.hpp>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <limits>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+struct TreeInstance {
+    glm::mat4 model;
+    glm::uvec4 blocks;
+    std::uint32_t building;
+    std::uint32_t pad[3];
+};
+
+bool isTreeNode(const MeshNode& n) { return n.name.starts_with("tree_"); }
+
+// One tree: its nodes, the trunk first, in the file's order.
+struct TreeNodes {
+    std::vector<std::size_t> nodes;
+};
+
+// Whether two trees show the same meshes element by element (the same species).
+bool sameSpecies(const std::vector<MeshNode>& all, const TreeNodes& a, const TreeNodes& b) {
+    if (a.nodes.size() != b.nodes.size()) return false;
+    for (std::size_t k = 0; k < a.nodes.size(); ++k) {
+        const Mesh &ma = all[a.nodes[k]].mesh, &mb = all[b.nodes[k]].mesh;
+        if (ma.positions != mb.positions || ma.indices != mb.indices) return false;
+    }
+    return true;
+}
+
+// The tree's elements in its trunk's space, parents as indices among them.
+std::vector<MeshNode> treeSpaceNodes(const std::vector<MeshNode>& all, const TreeNodes& tree) {
+    const glm::mat4 toTree = glm::inverse(all[tree.nodes[0]].world);
+    std::vector<MeshNode> out;
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+        const MeshNode& n = all[tree.nodes[k]];
+        MeshNode local{n.name, toTree * n.world, n.mesh, -1};
+        if (k > 0 && n.parent >= 0) {
+            const auto parent = std::find(tree.nodes.begin(), tree.nodes.end(), std::size_t(n.parent));
+            if (parent != tree.nodes.end()) local.parent = int(parent - tree.nodes.begin());
+        }
+        out.push_back(std::move(local));
+    }
+    return out;
+}
+
+// Splits `nodes` into the trees (each "tree_" node with its "tree_" descendants, when it has
+// any) and everything else.
+std::vector<TreeNodes> takeTrees(std::vector<MeshNode>& nodes, std::vector<MeshNode>& trees) {
+    std::vector<int> tree(nodes.size(), -1);
+    std::vector<TreeNodes> out;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        if (!isTreeNode(nodes[i])) continue;
+        const int parent = nodes[i].parent;
+        if (parent >= 0 && tree[std::size_t(parent)] >= 0) {
+            tree[i] = tree[std::size_t(parent)];
+        } else {
+            tree[i] = int(out.size());
+            out.emplace_back();
+        }
+    }
+    // A "tree_" node alone has no hierarchy to sway: it stays with the static meshes.
+    std::vector<std::size_t> size(out.size(), 0);
+    for (int t : tree)
+        if (t >= 0) ++size[std::size_t(t)];
+    std::vector<int> renumber(out.size(), -1);
+    int kept = 0;
+    for (std::size_t t = 0; t < out.size(); ++t)
+        if (size[t] > 1) renumber[t] = kept++;
+    for (int& t : tree) t = t >= 0 ? renumber[std::size_t(t)] : -1;
+    out.resize(std::size_t(kept));
+    std::vector<MeshNode> rest;
+    std::vector<int> newIndex(nodes.size(), -1);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        if (tree[i] < 0) {
+            newIndex[i] = int(rest.size());
+            rest.push_back(std::move(nodes[i]));
+            continue;
+        }
+        out[std::size_t(tree[i])].nodes.push_back(trees.size());
+        newIndex[i] = int(trees.size());
+        trees.push_back(std::move(nodes[i]));
+    }
+    // Parents renumbered within each list (a tree's parents are in the tree; others' outside it).
+    for (MeshNode& n : trees) n.parent = n.parent >= 0 ? newIndex[std::size_t(n.parent)] : -1;
+    for (MeshNode& n : rest) n.parent = n.parent >= 0 && tree[std::size_t(n.parent)] < 0 ? newIndex[std::size_t(n.parent)] : -1;
+    nodes = std::move(rest);
+    return out;
+}
+
+// Trees showing the same meshes are one species: each species' trees, in file order.
+std::vector<std::vector<std::size_t>> groupSpecies(const std::vector<MeshNode>& nodes, const std::vector<TreeNodes>& trees) {
+    std::vector<std::vector<std::size_t>> members;
+    for (std::size_t t = 0; t < trees.size(); ++t) {
+        std::size_t s = 0;
+        while (s < members.size() && !sameSpecies(nodes, trees[members[s][0]], trees[t])) ++s;
+        if (s == members.size()) members.emplace_back();
+        members[s].push_back(t);
+    }
+    return members;
+}
+
+// [lo, hi] grown around `mesh`'s box placed by `model`.
+void growBounds(const Mesh& mesh, const glm::mat4& model, glm::dvec3& lo, glm::dvec3& hi) {
+    const Bounds b = computeBounds(mesh.positions);
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
+        const glm::dvec3 p(model * glm::vec4(glm::vec3(corner), 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+}
+
+}  // namespace
+
+PivotTextures uploadPivotTextures(const exporters::PivotPainter& painter) {
+    PivotTextures t;
+    const auto upload = [&](const std::vector<float>& texels) {
+        gl::Texture tex = gl::makeTexture2D(GL_RGBA32F, painter.width, painter.height, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        glTextureSubImage2D(tex.id(), 0, 0, 0, painter.width, painter.height, GL_RGBA, GL_FLOAT, texels.data());
+        return tex;
+    };
+    t.pivots = upload(painter.pivots);
+    t.axes = upload(painter.axes);
+    return t;
+}
+
+void TreeGpu::load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi) {
+    std::vector<MeshNode> treeNodes;
+    const std::vector<TreeNodes> trees = takeTrees(nodes, treeNodes);
+    treeCount_ = trees.size();
+    if (trees.empty()) return;
+    const std::vector<std::vector<std::size_t>> members = groupSpecies(treeNodes, trees);
+    std::vector<StaticVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    std::vector<TreeInstance> instances;
+    for (std::size_t s = 0; s < members.size(); ++s) {
+        const TreeNodes& first = trees[members[s][0]];
+        const exporters::PivotPainter pp = exporters::buildPivotPainter(
+            treeSpaceNodes(treeNodes, first), exporters::PivotPreset::Native, treeNodes[first.nodes[0]].name);
+        Species sp;
+        sp.textures = uploadPivotTextures(pp);
+        sp.firstIndex = std::uint32_t(indices.size());
+        sp.indexCount = std::uint32_t(pp.mesh.indices.size());
+        sp.baseVertex = std::uint32_t(vertices.size());
+        sp.firstInstance = std::uint32_t(instances.size());
+        sp.instances = std::uint32_t(members[s].size());
+        for (std::size_t i = 0; i < pp.mesh.positions.size(); ++i)
+            vertices.push_back(staticVertex(pp.mesh, i, glm::mat4(1.0f), glm::mat3(1.0f)));
+        indices.insert(indices.end(), pp.mesh.indices.begin(), pp.mesh.indices.end());
+        for (std::size_t t : members[s]) {
+            const glm::mat4& model = treeNodes[trees[t].nodes[0]].world;
+            instances.push_back({model, blocks, 0xffffu, {0, 0, 0}});
+            growBounds(pp.mesh, model, lo, hi);
+        }
+        species_.push_back(std::move(sp));
+    }
+    vertices_ = gl::makeBuffer(vertices);
+    indices_ = gl::makeBuffer(indices);
+    instances_ = gl::makeBuffer(instances);
+    vao_ = gl::makeVertexArray();
+    const GLuint vao = vao_.id();
+    instancedLayout(vao, vertices_.id(), indices_.id(), instances_.id(), sizeof(TreeInstance), offsetof(TreeInstance, blocks),
+                    offsetof(TreeInstance, building));
+    // The model matrix: attributes 10-13, one column each.
+    for (GLuint c = 0; c < 4; ++c) {
+        glVertexArrayAttribFormat(vao, 10 + c, 4, GL_FLOAT, GL_FALSE, GLuint(offsetof(TreeInstance, model) + c * sizeof(glm::vec4)));
+        glEnableVertexArrayAttrib(vao, 10 + c);
+        glVertexArrayAttribBinding(vao, 10 + c, 1);
+    }
+    surface_ = gl::makeProgram("tree.vert", "surface.frag");
+    depth_ = gl::makeProgram("tree.vert", "depth.frag", {"DEPTH_PASS"});
+}
+
+std::size_t TreeGpu::draw(const WindSettings& wind, double time, const glm::mat4* depthViewProj, FrameStats* stats) {
+    if (species_.empty()) return 0;
+    glUseProgram(depthViewProj ? depth_.id() : surface_.id());
+    if (depthViewProj) glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(*depthViewProj));
+    const glm::vec3 d(wind.direction);
+    glUniform4f(5, d.x, d.y, d.z, float(wind.speed));
+    glUniform1f(6, float(time));
+    glBindVertexArray(vao_.id());
+    for (const Species& s : species_) {
+        glBindTextureUnit(kPivotUnit, s.textures.pivots.id());
+        glBindTextureUnit(kAxisUnit, s.textures.axes.id());
+        glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, GLsizei(s.indexCount), GL_UNSIGNED_INT,
+                                                      reinterpret_cast<const void*>(std::uintptr_t(s.firstIndex) * 4u),
+                                                      GLsizei(s.instances), GLint(s.baseVertex), s.firstInstance);
+        if (stats) stats->triangles += std::size_t(s.indexCount / 3) * s.instances;
+    }
+    return species_.size();
+}
+
+}  // namespace dawnforge::runtime

@@ -1,0 +1,51 @@
+#pragma once
+// The city's trees on the GPU (private to the renderer). Every "tree_NNNNN" node hierarchy of
+// city.glb is one tree; trees whose elements show the same meshes are one species, drawn in one
+// instanced draw: its elements merged into one mesh whose TEXCOORD_1 points at each element's
+// texel of its Pivot Painter 2 textures (native preset, exporters/pivot_painter.hpp), and each
+// tree one instance (its trunk's transform). wind.glsl bends every element about its pivot,
+// parents after children, from those textures alone: no per-element work on the CPU.
+#include "gl.hpp"
+
+#include <dawnforge/core/import.hpp>
+#include <dawnforge/exporters/pivot_painter.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/runtime/scene_file.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace dawnforge::runtime {
+
+// Texture units the wind reads (wind.glsl).
+inline constexpr GLuint kPivotUnit = 9, kAxisUnit = 10;
+
+struct PivotTextures {
+    gl::Texture pivots, axes;  // RGBA32F: pivot (m) and parent index; X axis and extent (m)
+};
+PivotTextures uploadPivotTextures(const exporters::PivotPainter& painter);
+
+class TreeGpu {
+public:
+    // Takes the tree nodes out of `nodes` and grows [lo, hi] around the trees, which wear the
+    // atlas blocks `blocks` (instance data, as the buildings').
+    void load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi);
+    std::size_t treeCount() const { return treeCount_; }
+    // One draw per species; `depthViewProj` selects the depth-only program (shadow map).
+    std::size_t draw(const WindSettings& wind, double time, const glm::mat4* depthViewProj, FrameStats* stats);
+
+private:
+    struct Species {
+        PivotTextures textures;
+        std::uint32_t firstIndex = 0, indexCount = 0, baseVertex = 0, firstInstance = 0, instances = 0;
+    };
+    std::vector<Species> species_;
+    gl::Buffer vertices_, indices_, instances_;
+    gl::VertexArray vao_;
+    gl::Program surface_, depth_;
+    std::size_t treeCount_ = 0;
+};
+
+}  // namespace dawnforge::runtime
