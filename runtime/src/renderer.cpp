@@ -1,6 +1,7 @@
 // The renderer: GPU resources for a scene and the frame graph that draws it.
 #include <dawnforge/runtime/renderer.hpp>
 
+#include "flares.hpp"
 #include "gl.hpp"
 #include "scene_gpu.hpp"
 
@@ -76,6 +77,7 @@ struct Target {
     glm::ivec2 size{0};
     gl::Texture hdr, depth, ldr;
     gl::Framebuffer hdrFbo, ldrFbo;
+    gl::Framebuffer flareFbo;  // the HDR colour alone: the flare pass reads the depth texture
 };
 
 Target makeTarget(glm::ivec2 size) {
@@ -92,12 +94,21 @@ Target makeTarget(glm::ivec2 size) {
     glNamedFramebufferTexture(t.hdrFbo.id(), GL_DEPTH_ATTACHMENT, t.depth.id(), 0);
     t.ldrFbo = gl::makeFramebuffer();
     glNamedFramebufferTexture(t.ldrFbo.id(), GL_COLOR_ATTACHMENT0, t.ldr.id(), 0);
-    for (GLuint fbo : {t.hdrFbo.id(), t.ldrFbo.id()})
+    t.flareFbo = gl::makeFramebuffer();
+    glNamedFramebufferTexture(t.flareFbo.id(), GL_COLOR_ATTACHMENT0, t.hdr.id(), 0);
+    for (GLuint fbo : {t.hdrFbo.id(), t.ldrFbo.id(), t.flareFbo.id()})
         if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
             throw std::runtime_error("the GL driver cannot render to an RGBA16F/RGBA8 framebuffer");
     return t;
 }
 
+// GL's row 0 is the bottom; images start at the top. `row` is in elements.
+template <class T>
+void flipRows(std::vector<T>& pixels, std::size_t row, int rows) {
+    for (int y = 0; y < rows / 2; ++y)
+        std::swap_ranges(pixels.begin() + std::ptrdiff_t(row * std::size_t(y)), pixels.begin() + std::ptrdiff_t(row * std::size_t(y + 1)),
+                         pixels.begin() + std::ptrdiff_t(row * std::size_t(rows - 1 - y)));
+}
 
 }  // namespace
 
@@ -109,6 +120,11 @@ struct Renderer::State {
     gl::Buffer frameUbo;
     gl::VertexArray emptyVao;
     FrameGraph graph;
+    FlarePass flares;
+    std::vector<StreetLamp> lamps;
+    bool lensFlares = true;
+    Lighting lighting;
+    glm::vec4 lens{0.0f};  // flare.vert's near, far, projection[1][1]
     FrameSettings frame;
     FrameStats stats;
     glm::mat4 viewProj{1.0f};
@@ -116,22 +132,13 @@ struct Renderer::State {
     double exposure = 1.0;
     double loadSeconds = 0.0;
     bool synchronise = false;
+
+    void addPasses();
 };
 
-Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) : s_(std::make_unique<State>()) {
-    const auto t0 = Clock::now();
-    State& s = *s_;
-    s.options = options;
-    if (options.size.x < 1 || options.size.y < 1 || options.size.x > 16384 || options.size.y > 16384)
-        throw InputError(format("image size {}x{} is out of range (1 to 16384)", options.size.x, options.size.y));
-    s.scene.load(sceneFile, options.shadowMapSize);
-    s.target = makeTarget(options.size);
-    s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
-    s.tonemap = gl::makeProgram("fullscreen.vert", "tonemap.frag");
-    s.frameUbo = gl::makeBuffer(nullptr, sizeof(FrameBlock), GL_DYNAMIC_STORAGE_BIT);
-    s.emptyVao = gl::makeVertexArray();
-
-    // The frame graph. Each pass binds what it draws into.
+// The frame graph. Each pass binds what it draws into.
+void Renderer::State::addPasses() {
+    State& s = *this;
     s.graph.add("shadow", [&s] {
         s.stats.drawCalls += s.scene.drawShadow(s.frame.time);
     });
@@ -165,6 +172,11 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
         s.stats.drawCalls += s.scene.drawOcean(s.stats);
         glDisable(GL_BLEND);
     });
+    s.graph.add("flares", [&s] {
+        if (!s.lensFlares) return;
+        glBindFramebuffer(GL_FRAMEBUFFER, s.target.flareFbo.id());
+        s.stats.drawCalls += s.flares.draw(flareLights(s.lighting, s.lamps), s.target.depth.id(), s.lens);
+    });
     s.graph.add("tonemap", [&s] {
         glBindFramebuffer(GL_FRAMEBUFFER, s.target.ldrFbo.id());
         glViewport(0, 0, s.target.size.x, s.target.size.y);
@@ -176,6 +188,27 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
         glDrawArrays(GL_TRIANGLES, 0, 3);
         s.stats.drawCalls += 1;
     });
+}
+
+Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) : s_(std::make_unique<State>()) {
+    const auto t0 = Clock::now();
+    State& s = *s_;
+    s.options = options;
+    if (options.size.x < 1 || options.size.y < 1 || options.size.x > 16384 || options.size.y > 16384)
+        throw InputError(format("image size {}x{} is out of range (1 to 16384)", options.size.x, options.size.y));
+    s.scene.load(sceneFile, options.shadowMapSize);
+    s.lensFlares = sceneFile.lensFlares;
+    if (s.lensFlares) {
+        s.flares.load();
+        if (sceneFile.cityDir) s.lamps = readStreetLamps(*sceneFile.cityDir);
+    }
+    s.target = makeTarget(options.size);
+    s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
+    s.tonemap = gl::makeProgram("fullscreen.vert", "tonemap.frag");
+    s.frameUbo = gl::makeBuffer(nullptr, sizeof(FrameBlock), GL_DYNAMIC_STORAGE_BIT);
+    s.emptyVao = gl::makeVertexArray();
+
+    s.addPasses();
     glFinish();
     gl::check("loading the scene");
     s.loadSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -227,6 +260,8 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     s.scene.setCamera(cam.position, cam.forward, glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
 
     const Lighting light = lightingAt(frame.timeOfDay);
+    s.lighting = light;
+    s.lens = glm::vec4(float(kNear), float(kFar), float(proj[1][1]), 0.0f);
     s.exposure = 1.0 / (0.35 + 0.65 * (1.0 - light.night)) * 0.9;
     FrameBlock block;
     block.viewProj = glm::mat4(viewProj);
@@ -260,12 +295,7 @@ exporters::Image Renderer::readPixels(FrameStats* stats) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, s_->target.ldrFbo.id());
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-    // GL's row 0 is the bottom; images start at the top.
-    const std::size_t row = std::size_t(size.x) * 4;
-    for (int y = 0; y < size.y / 2; ++y)
-        std::swap_ranges(image.rgba.begin() + std::ptrdiff_t(row * std::size_t(y)),
-                         image.rgba.begin() + std::ptrdiff_t(row * std::size_t(y + 1)),
-                         image.rgba.begin() + std::ptrdiff_t(row * std::size_t(size.y - 1 - y)));
+    flipRows(image.rgba, std::size_t(size.x) * 4, size.y);
     gl::check("reading pixels back");
     if (stats) {
         const double ms = msSince(t0);
@@ -273,6 +303,15 @@ exporters::Image Renderer::readPixels(FrameStats* stats) {
         stats->frameMs += ms;
     }
     return image;
+}
+
+std::vector<glm::vec3> Renderer::readHdrPixels() {
+    const glm::ivec2 size = s_->target.size;
+    std::vector<glm::vec3> pixels(std::size_t(size.x) * std::size_t(size.y));
+    glGetTextureImage(s_->target.hdr.id(), 0, GL_RGB, GL_FLOAT, GLsizei(pixels.size() * sizeof(glm::vec3)), pixels.data());
+    flipRows(pixels, std::size_t(size.x), size.y);
+    gl::check("reading HDR pixels back");
+    return pixels;
 }
 
 void Renderer::present(glm::ivec2 windowSize) {

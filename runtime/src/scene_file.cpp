@@ -91,6 +91,11 @@ struct Reader {
         return int(j.get<std::int64_t>());
     }
 
+    bool boolean(const Json& j, const std::string& path) const {
+        if (!j.is_boolean()) fail(format("\"{}\" must be true or false (got {})", path, shown(j)));
+        return j.get<bool>();
+    }
+
     std::string name(const Json& j, const std::string& path) const {
         if (!j.is_string()) fail(format("\"{}\" must be a string (got {})", path, shown(j)));
         std::string s = j.get<std::string>();
@@ -195,7 +200,8 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
         r.fail(format("not valid JSON: {}", oneLine(e.what())));
     }
     if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
-    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras"});
+    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras",
+                        "lens_flares"});
     const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
     if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
     const Json& v = r.required(root, "", "version", "expected \"version\": 1");
@@ -209,6 +215,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     if (root.contains("fps")) scene.fps = r.number(root["fps"], "fps", 0.0, true, kInf, false);
     if (root.contains("ocean") && !root["ocean"].is_null()) scene.ocean = readOcean(r, root["ocean"]);
     if (root.contains("wind")) scene.wind = readWind(r, root["wind"]);
+    if (root.contains("lens_flares")) scene.lensFlares = r.boolean(root["lens_flares"], "lens_flares");
     if (root.contains("destruction")) {
         const Json& list = array(r, root["destruction"], "destruction", "{\"vat\": ..., \"name\": ...} objects");
         for (std::size_t i = 0; i < list.size(); ++i)
@@ -281,6 +288,7 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
     for (const SceneCamera& c : scene.cameras)
         j["cameras"].push_back(
             {{"name", c.name}, {"position", vec(c.position)}, {"target", vec(c.target)}, {"fov_degrees", c.fovDegrees}});
+    j["lens_flares"] = scene.lensFlares;
     return j.dump(2) + "\n";
 }
 

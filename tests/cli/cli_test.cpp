@@ -736,7 +736,7 @@ TEST(CliRender, WritesThePictureAndItsPassTimes) {
         passes.push_back(p["name"]);
         EXPECT_GE(p["cpu_ms"].get<double>(), 0.0);
     }
-    EXPECT_EQ(passes, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "tonemap", "readback"}));
+    EXPECT_EQ(passes, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "flares", "tonemap", "readback"}));
     EXPECT_EQ(stats["ocean_vertices"], 64 * 48);
     EXPECT_GT(stats["triangles"].get<int>(), 1000);
     const Image image = readPng(f.dir / "out.png");

@@ -1,6 +1,7 @@
 // The runtime's baked lighting (ARCHITECTURE.md section 7): a tower on open ground, baked by
 // bake::bakeCity, drawn with and without its bake on llvmpipe.
 #include "golden.hpp"
+#include "render_support.hpp"
 #include "test_support.hpp"
 
 #include <dawnforge/bake/bake.hpp>
@@ -29,13 +30,7 @@ constexpr glm::ivec2 kSize{160, 120};
 constexpr int kOpen[4] = {0, 104, 24, 120};
 constexpr int kFoot[4] = {84, 60, 96, 66};
 
-GlContext& context() {
-    static std::unique_ptr<GlContext> c = [] {
-        setenv("GALLIUM_DRIVER", "llvmpipe", 1);
-        return GlContext::headless();
-    }();
-    return *c;
-}
+GlContext& context() { return test::llvmpipeContext(); }
 
 // A parallelogram from `corner` along a and b facing `normal` (wound to agree), uv0 in metres.
 void addQuad(Mesh& m, glm::vec3 corner, glm::vec3 a, glm::vec3 b, glm::vec3 normal, std::uint8_t material) {

@@ -15,6 +15,7 @@
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/context.hpp>
 #include "golden.hpp"
+#include "render_support.hpp"
 #include "gpu_checks.hpp"
 #include <dawnforge/runtime/ocean.hpp>
 #include <dawnforge/runtime/renderer.hpp>
@@ -32,18 +33,13 @@ using namespace dawnforge::exporters;
 using namespace dawnforge::runtime;
 using dawnforge::test::TempDir;
 using dawnforge::test::expectGolden;
+using dawnforge::test::lookingAt;
 
 namespace {
 
 constexpr glm::ivec2 kSize{160, 120};
 
-GlContext& context() {
-    static std::unique_ptr<GlContext> c = [] {
-        setenv("GALLIUM_DRIVER", "llvmpipe", 1);  // golden images are llvmpipe's
-        return GlContext::headless();
-    }();
-    return *c;
-}
+GlContext& context() { return test::llvmpipeContext(); }
 
 // A flat rectangle facing +z from (x0, y0) to (x1, y1) at depth z, uv in metres.
 void addWall(Mesh& m, glm::vec2 lo, glm::vec2 hi, float z, std::uint8_t material) {
@@ -105,14 +101,6 @@ glm::dvec3 meanColour(const Image& image, int x0, int y0, int x1, int y1) {
     return sum / double((x1 - x0) * (y1 - y0));
 }
 
-FrameSettings lookingAt(glm::dvec3 eye, glm::dvec3 target, double hours = 15.0, double fov = 50.0) {
-    FrameSettings f;
-    f.camera.position = eye;
-    f.camera.forward = glm::normalize(target - eye);
-    f.camera.fovYDegrees = fov;
-    f.timeOfDay = hours;
-    return f;
-}
 
 }  // namespace
 
@@ -245,7 +233,8 @@ TEST(Render, OceanWithAShore) {
     EXPECT_EQ(stats.oceanVertices, 96u * 80u);
     std::vector<std::string> names;
     for (const PassTime& p : stats.passes) names.push_back(p.name);
-    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "tonemap", "readback"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "flares", "tonemap",
+                                                 "readback"}));
 }
 
 TEST(Render, SameSceneGivesTheSamePixels) {

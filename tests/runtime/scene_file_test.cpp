@@ -37,7 +37,8 @@ const std::string kFull = R"({
   "cameras": [
     { "name": "overview", "position": [0, 40, 120], "target": [0, 0, 0], "fov_degrees": 60 },
     { "name": "street", "position": [5, 1.7, 5] }
-  ]
+  ],
+  "lens_flares": false
 })";
 
 // kFull with `from` replaced by `to` (which must occur).
@@ -86,6 +87,7 @@ TEST(SceneFile, ParsesEveryValue) {
     EXPECT_EQ(s.cameras[1].fovDegrees, 50.0);
     EXPECT_EQ(findCamera(s, "street"), &s.cameras[1]);
     EXPECT_EQ(findCamera(s, "nowhere"), nullptr);
+    EXPECT_FALSE(s.lensFlares);
 }
 
 TEST(SceneFile, Defaults) {
@@ -100,6 +102,7 @@ TEST(SceneFile, Defaults) {
     EXPECT_EQ(s.wind.speed, 4.0);
     EXPECT_TRUE(s.destruction.empty());
     EXPECT_TRUE(s.cameras.empty());
+    EXPECT_TRUE(s.lensFlares);
 
     const SceneFile nullOcean = parseSceneJson(R"({"format": "dawnforge.scene", "version": 1, "ocean": null})", "s.json");
     EXPECT_FALSE(nullOcean.ocean);
@@ -148,12 +151,14 @@ TEST(SceneFile, RoundTrips) {
             EXPECT_EQ(back.cameras[i].target, s.cameras[i].target);
             EXPECT_EQ(back.cameras[i].fovDegrees, s.cameras[i].fovDegrees);
         }
+        EXPECT_EQ(back.lensFlares, s.lensFlares);
     }
     // Relative paths where they can be: the scene folder's own city is written as "city".
     EXPECT_TRUE(contains(sceneFileJson(s, "/scenes/harbour"), "\"city\": \"city\""));
     const SceneFile none = parseSceneJson(sceneFileJson(SceneFile{}, "/x"), "/x/scene.json");
     EXPECT_FALSE(none.ocean);
     EXPECT_FALSE(none.cityDir);
+    EXPECT_TRUE(none.lensFlares);
 }
 
 TEST(SceneFile, RejectsBadValuesNamingTheKey) {
@@ -203,6 +208,10 @@ TEST(SceneFile, RejectsBadValuesNamingTheKey) {
         {edited(R"("replaces": 14)", R"("replaces": "building_00014")"), "destruction[0].replaces"},
         {edited(R"("city": "city")", R"("city": 7)"), "city"},
         {R"({"format": "dawnforge.scene", "version": 1, "cameras": {}})", "\"cameras\" must be an array"},
+        {edited(R"("lens_flares": false)", R"("lens_flares": 0)"), "\"lens_flares\" must be true or false"},
+        {edited(R"("lens_flares": false)", R"("lens_flares": "on")"), "\"lens_flares\""},
+        {edited(R"("lens_flares": false)", R"("lens_flares": null)"), "\"lens_flares\""},
+        {edited(R"("lens_flares": false)", R"("lens_flare": true)"), "unknown key \"lens_flare\""},
     };
     for (const auto& [json, key] : cases) {
         const std::string message = inputErrorOf([&] { parseSceneJson(json, kFile); });

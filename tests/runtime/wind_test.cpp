@@ -3,26 +3,17 @@
 // rigidly about its own pivot, which its parent carries.
 #include <dawnforge/exporters/pivot_painter.hpp>
 #include <dawnforge/procgen/dressing.hpp>
-#include <dawnforge/runtime/context.hpp>
 #include "gpu_checks.hpp"
+#include "render_support.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <map>
 
 using namespace dawnforge;
 using namespace dawnforge::runtime;
 
 namespace {
-
-GlContext& windContext() {
-    static std::unique_ptr<GlContext> c = [] {
-        setenv("GALLIUM_DRIVER", "llvmpipe", 1);
-        return GlContext::headless();
-    }();
-    return *c;
-}
 
 // The texel centre of element i, as TEXCOORD_1 holds it.
 glm::vec2 texelOf(const exporters::PivotPainter& pp, int i) {
@@ -52,7 +43,7 @@ WindCase windCase(int species) {
 }
 
 TEST(Wind, NoWindLeavesEveryVertexWhereTheMeshHasIt) {
-    windContext();
+    test::llvmpipeContext();
     const WindCase c = windCase(0);
     const std::vector<glm::dvec3> out = gpuWind(c.pp, c.points, {1, 0, 0}, 0.0, 3.7, 0.4);
     ASSERT_EQ(out.size(), c.points.size());
@@ -60,7 +51,7 @@ TEST(Wind, NoWindLeavesEveryVertexWhereTheMeshHasIt) {
 }
 
 TEST(Wind, EveryElementTurnsRigidlyAboutItsOwnPivotWhichItsParentCarries) {
-    windContext();
+    test::llvmpipeContext();
     const glm::dvec3 wind = glm::normalize(glm::dvec3(1.0, 0.0, 0.3));
     for (int species = 0; species < 3; ++species) {
         const WindCase c = windCase(species);

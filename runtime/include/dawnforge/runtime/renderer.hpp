@@ -8,6 +8,8 @@
 //   destruction               VAT playback of each destruction instance
 //   sky                       sky and sun where nothing was drawn
 //   ocean                     projected-grid Gerstner water, blended, depth writes on
+//   flares                    lens flares of the sun and the street lamps: one instanced draw, added to
+//                             the HDR colour; visibility from the depth texture in the vertex shader
 //   tonemap                   HDR → 8-bit sRGB (ACES fit)
 //   readback                  pixels back to the CPU (headless only)
 // A GL context (GlContext) must be current on the calling thread for the whole life.
@@ -72,6 +74,8 @@ public:
     FrameStats render(const FrameSettings& frame);
     // The last frame's pixels (row 0 at the top), timed as the "readback" pass in `stats`.
     exporters::Image readPixels(FrameStats* stats = nullptr);
+    // The last frame's linear HDR colour before exposure (row 0 at the top), for tests.
+    std::vector<glm::vec3> readHdrPixels();
     // Copies the last frame into the default framebuffer (window).
     void present(glm::ivec2 windowSize);
     void resize(glm::ivec2 size);

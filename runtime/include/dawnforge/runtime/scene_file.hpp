@@ -22,7 +22,9 @@
 //     "cameras": [ { "name": "overview",                 required, unique, not empty; the first is the default
 //                    "position": [0, 40, 120],           default [0, 0, 0]
 //                    "target": [0, 0, 0],                default [0, 0, -1]; must differ from position
-//                    "fov_degrees": 50 } ]               vertical field of view, in (1, 179); default 50
+//                    "fov_degrees": 50 } ],              vertical field of view, in (1, 179); default 50
+//     "lens_flares": true                                flares of the sun by day and of city.json's street
+//                                                        lamps by night (true or false); default true
 //   }
 //
 // Every key but "format" and "version" is optional; "ocean" absent or null means no ocean.
@@ -77,6 +79,7 @@ struct SceneFile {
     WindSettings wind;
     std::vector<DestructionInstance> destruction;
     std::vector<SceneCamera> cameras;              // the first is the default
+    bool lensFlares = true;                        // the sun's and the street lamps' lens flares
 };
 
 // Reads and parses `file`, then checks that the city folder holds city.glb and that each
