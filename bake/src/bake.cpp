@@ -83,8 +83,9 @@ CityInput readCity(const std::filesystem::path& cityDir) {
     for (MeshNode& node : nodes) {
         const std::string& name = node.name;
         const bool lod0 = name.ends_with("_lod0"), lod1 = name.ends_with("_lod1");
-        // Trees sway and lamps are thin: the runtime lights both by sun and sky, unbaked.
-        if (name.starts_with("tree_") || name.starts_with("lamp_")) continue;
+        // Trees sway, lamps are thin and the far land is a backdrop kilometres wide: the
+        // runtime lights them by sun and sky, unbaked.
+        if (name.starts_with("tree_") || name.starts_with("lamp_") || name.starts_with("land_")) continue;
         if (!lod0 && !lod1) {
             city.statics.push_back({name, worldMesh(node)});
             continue;

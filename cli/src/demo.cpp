@@ -11,6 +11,7 @@
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/context.hpp>
 #include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/runtime/sky.hpp>
 #include <dawnforge/runtime/scene_file.hpp>
 #include <dawnforge/procgen/city_building.hpp>
 #include <dawnforge/procgen/plan.hpp>
@@ -36,6 +37,7 @@ struct DemoOptions {
 };
 
 constexpr double kStartTime = 1.0;  // scene time at which the building's destruction takes over
+constexpr double kSunsetHours = 17.7; // the sunset picture: the sun low in the west, above the horizon
 
 // A small coastal district on the default recipe: a third of it sea.
 procgen::CityPlan demoCity(const DemoOptions& options, const CommonOptions& common) {
@@ -154,10 +156,18 @@ runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::Ci
     scene.cameras.push_back({"harbour", glm::dvec3(x + 45.0, 20.0, z + 60.0), glm::dvec3(x - 5.0, 8.0, c.z), 55.0});
     scene.cameras.push_back({"overview", glm::dvec3(x + 200.0, 190.0, z + 160.0), glm::dvec3(x, 0.0, z - 90.0), 50.0});
     scene.cameras.push_back({"street", glm::dvec3(x - 40.0, 2.0, z + 6.0), glm::dvec3(x, 10.0, c.z), 65.0});
+    // From the harbour towards the setting sun, which stands a third of the way up the picture.
+    const glm::dvec3 sun = runtime::lightingAt(kSunsetHours).sunDirection;
+    const glm::dvec3 level = glm::normalize(glm::dvec3(sun.x, 0.0, sun.z));
+    const glm::dvec3 eye(x + 30.0, 5.0, z + 45.0);
+    const glm::dvec3 look = glm::normalize(level + glm::dvec3(0.0, std::tan(std::asin(sun.y)) - 0.12, 0.0));
+    scene.cameras.push_back({"sunset", eye, eye + 100.0 * look, 60.0});
     return scene;
 }
 
-// Writes scene.json and a picture of it from its first camera.
+// Writes scene.json and three pictures of it: render.png from its first camera at the scene's
+// time of day, render_night.png from the street at 22:00 (lit windows, lamps and their
+// flares) and render_sunset.png from the harbour into the setting sun (its flare).
 void renderDemo(const DemoOptions& options, const procgen::CityBuilding& building) {
     const auto sceneFile = options.outputDir / "scene.json";
     writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir, building), options.outputDir));
@@ -165,17 +175,26 @@ void renderDemo(const DemoOptions& options, const procgen::CityBuilding& buildin
     const runtime::SceneFile view = runtime::loadSceneFile(sceneFile);
     const auto context = runtime::GlContext::headless();
     runtime::Renderer renderer(view, runtime::RendererOptions{});
-    runtime::FrameSettings frame;
-    frame.camera = runtime::Renderer::cameraOf(view.cameras.front());
-    frame.time = view.time;
-    frame.timeOfDay = view.timeOfDay;
-    runtime::FrameStats stats = renderer.render(frame);
-    const exporters::Image image = renderer.readPixels(&stats);
-    const auto picture = options.outputDir / "render.png";
-    exporters::writePng(image, picture);
-    std::printf("wrote %s: %dx%d at %.1f h, %.2f s into the scene (%s); %.0f ms for the first frame\n",
-                picture.string().c_str(), image.width, image.height, frame.timeOfDay, frame.time,
-                context->description().c_str(), stats.frameMs);
+    const struct {
+        const char* file;
+        const char* camera;
+        double hours;
+    } pictures[] = {{"render.png", view.cameras.front().name.c_str(), view.timeOfDay},
+                    {"render_night.png", "street", 22.0},
+                    {"render_sunset.png", "sunset", kSunsetHours}};
+    for (const auto& p : pictures) {
+        runtime::FrameSettings frame;
+        frame.camera = runtime::Renderer::cameraOf(*runtime::findCamera(view, p.camera));
+        frame.time = view.time;
+        frame.timeOfDay = p.hours;
+        runtime::FrameStats stats = renderer.render(frame);
+        const exporters::Image image = renderer.readPixels(&stats);
+        const auto picture = options.outputDir / p.file;
+        exporters::writePng(image, picture);
+        std::printf("wrote %s: %dx%d from \"%s\" at %.1f h, %.2f s into the scene (%s); %.0f ms\n", picture.string().c_str(),
+                    image.width, image.height, p.camera, frame.timeOfDay, frame.time, context->description().c_str(),
+                    stats.frameMs);
+    }
     std::printf("next: dawnforge render %s -o frame.png --stats, or dawnforge view %s\n", sceneFile.string().c_str(),
                 sceneFile.string().c_str());
 }

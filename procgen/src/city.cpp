@@ -5,6 +5,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/seed.hpp>
 
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_for.h>
@@ -33,41 +34,98 @@ double groundHeight(const CityPlan& plan, const CoastRecipe& coast, glm::dvec2 p
     return -std::min(coast.seabedDepth, fall * coast.seabedSlope);
 }
 
-// The ground of one tile: its cells (asphalt on land, sand where any corner is under water)
-// and the kerbs of `blocks` (sidewalk prisms).
-Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks) {
+double smoothstep(double e0, double e1, double x) {
+    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// The land beyond the city's edge: the city's ground where that is sea, and otherwise hills
+// that rise from 0 at the edge (and at the shore) over 0.4 wavelengths: three crossed waves
+// of the recipe's wavelength, turned and shifted by the seed.
+double terrainHeight(const City& city, glm::dvec2 p) {
+    const CitySettings& s = city.settings;
+    const TerrainRecipe& t = s.recipe.terrain;
+    const double ground = groundHeight(city.plan, s.recipe.coast, p);
+    const glm::dvec2 outside = glm::max(glm::max(-p, p - s.size), glm::dvec2(0.0));
+    const double beyond = glm::length(outside);
+    if (ground < 0.0 || beyond <= 0.0 || t.hillHeight <= 0.0) return ground;
+    const double shore = p.y - (coastY(city.plan, p.x) - kQuay);  // +inf without a sea
+    double wave = 0.0;
+    for (std::uint64_t k = 0; k < 3; ++k) {
+        Rng rng(deriveSeed(s.seed, "hills", k));
+        const double angle = rng.uniform(0.0, 6.283185307179586), phase = rng.uniform(0.0, 6.283185307179586);
+        const glm::dvec2 dir(std::cos(angle), std::sin(angle));
+        wave += std::sin(glm::dot(p, dir) * 6.283185307179586 / t.hillWavelength + phase) / 3.0;
+    }
+    const double rise = 0.4 * t.hillWavelength;
+    return t.hillHeight * smoothstep(0.0, rise, beyond) * smoothstep(0.0, rise, shore) * (0.5 + 0.5 * wave);
+}
+
+// Beyond the terrain's margin, rings of cells growing by kFarGrowth reach kFarRings out
+// (about 4.7 km for 10 m cells): land to the horizon, or sea where the coast runs on.
+constexpr int kFarRings = 12;
+constexpr double kFarGrowth = 1.6;
+
+// Where cell boundary i lies along an axis of `size` metres with `cells` cells and `margin`
+// margin cells each side: every kCellSize metres inside (the last cell may be narrower) and
+// in the margin, then growing rings.
+double cellEdge(int i, int cells, double size, int margin) {
+    const auto far = [](int k) { return kCellSize * (std::pow(kFarGrowth, k) - 1.0) / (kFarGrowth - 1.0); };
+    if (i < -margin) return -(margin * kCellSize + far(-margin - i));
+    if (i > cells + margin) return size + margin * kCellSize + far(i - cells - margin);
+    return i >= cells ? size + (i - cells) * kCellSize : i * kCellSize;
+}
+
+// One ground cell: asphalt in the city, grass beyond it, sand where a corner is under water.
+void addCell(MeshBuilder& mb, const City& city, glm::dvec2 lo, glm::dvec2 hi, bool inCity) {
+    const glm::dvec2 c[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+    glm::dvec3 p[4];
+    bool wet = false;
+    for (int k = 0; k < 4; ++k) {
+        p[k] = {c[k], terrainHeight(city, c[k])};
+        wet = wet || p[k].z < 0.0;
+    }
+    const std::uint8_t material = wet ? kSand : inCity ? kAsphalt : kGround;
+    // Two triangles, each with its own flat normal (cells slope under the sea and on the hills).
+    const glm::dvec3 a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[2], p[3]};
+    mb.polygon(a, MeshBuilder::faceNormal(a), material, {});
+    mb.polygon(b, MeshBuilder::faceNormal(b), material, {});
+}
+
+// The ground of one tile: its cells and the kerbs of `blocks` (sidewalk prisms). The tiles on
+// the city's edge also hold the terrain's cells beyond it (terrain.margin metres), and in
+// `land` the far rings beyond those (a backdrop the bake and the scene's bounds leave out).
+Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks, Mesh& land) {
     const CitySettings& s = city.settings;
     Mesh mesh;
     mesh.name = format("ground_{}_{}", tile.x, tile.y);
-    MeshBuilder mb(mesh);
+    land.name = format("land_{}_{}", tile.x, tile.y);
+    MeshBuilder mb(mesh), far(land);
     // Only the cells near the tile: a cell belongs to the tile holding its centre.
     const glm::ivec2 count = tileCount(s);
     const int nx = static_cast<int>(std::ceil(s.size.x / kCellSize)), ny = static_cast<int>(std::ceil(s.size.y / kCellSize));
+    const int margin = static_cast<int>(std::ceil(s.recipe.terrain.margin / kCellSize));
+    const int rings = margin > 0 ? kFarRings : 0;
     auto cellRange = [&](int t, int tiles, int cells) {
-        const int lo = t == 0 ? 0 : std::max(0, static_cast<int>(std::floor(t * s.tileSize / kCellSize)) - 1);
-        const int hi = t == tiles - 1 ? cells : std::min(cells, static_cast<int>(std::ceil((t + 1) * s.tileSize / kCellSize)) + 1);
+        const int lo = t == 0 ? -margin - rings : std::max(0, static_cast<int>(std::floor(t * s.tileSize / kCellSize)) - 1);
+        const int hi = t == tiles - 1 ? cells + margin + rings
+                                      : std::min(cells, static_cast<int>(std::ceil((t + 1) * s.tileSize / kCellSize)) + 1);
         return std::make_pair(lo, hi);
     };
     const auto [i0, i1] = cellRange(tile.x, count.x, nx);
     const auto [j0, j1] = cellRange(tile.y, count.y, ny);
     for (int j = j0; j < j1; ++j)
         for (int i = i0; i < i1; ++i) {
-            const double x0 = i * kCellSize, x1 = std::min(s.size.x, x0 + kCellSize);
-            const double y0 = j * kCellSize, y1 = std::min(s.size.y, y0 + kCellSize);
-            if (tileOf(s, {0.5 * (x0 + x1), 0.5 * (y0 + y1)}) != tile) continue;
-            const glm::dvec2 c[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-            glm::dvec3 p[4];
-            bool wet = false;
-            for (int k = 0; k < 4; ++k) {
-                p[k] = {c[k], groundHeight(city.plan, s.recipe.coast, c[k])};
-                wet = wet || p[k].z < 0.0;
-            }
-            const std::uint8_t material = wet ? kSand : kAsphalt;
-            // Two triangles, each with its own flat normal (cells slope under the sea).
-            const glm::dvec3 a[3] = {p[0], p[1], p[2]}, b[3] = {p[0], p[2], p[3]};
-            mb.polygon(a, MeshBuilder::faceNormal(a), material, {});
-            mb.polygon(b, MeshBuilder::faceNormal(b), material, {});
+            const glm::dvec2 lo{cellEdge(i, nx, s.size.x, margin), cellEdge(j, ny, s.size.y, margin)};
+            const glm::dvec2 hi{cellEdge(i + 1, nx, s.size.x, margin), cellEdge(j + 1, ny, s.size.y, margin)};
+            const glm::dvec2 centre = 0.5 * (lo + hi);
+            if (tileOf(s, centre) != tile) continue;
+            const bool inCity = centre.x > 0.0 && centre.y > 0.0 && centre.x < s.size.x && centre.y < s.size.y;
+            const bool inFar = i < -margin || j < -margin || i >= nx + margin || j >= ny + margin;
+            addCell(inFar ? far : mb, city, lo, hi, inCity);
         }
+    land.uv1.clear();
+    land.uv2.clear();
     for (int id : blocks)
         mb.prismAny(city.plan.blocks[static_cast<std::size_t>(id)].curb, 0.0, s.recipe.streets.curbHeight, kPaving, kPaving);
     // uv1/uv2 carry nothing on the ground.
@@ -282,7 +340,7 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     report(0.9);
     dressTiles(city, [&](glm::ivec2 t) { return tileSlot(t); });
     tbb::parallel_for(std::size_t(0), city.tiles.size(), [&](std::size_t k) {
-        city.tiles[k].ground = tileGround(city, city.tiles[k].index, city.tiles[k].blocks);
+        city.tiles[k].ground = tileGround(city, city.tiles[k].index, city.tiles[k].blocks, city.tiles[k].land);
     });
     report(1.0);
     return city;
@@ -298,7 +356,7 @@ CityCounts countCity(const City& city) {
         c.trianglesLod0 += b.lod0.triangleCount();
         c.trianglesLod1 += b.lod1.triangleCount();
     }
-    for (const CityTile& t : city.tiles) c.trianglesGround += t.ground.triangleCount();
+    for (const CityTile& t : city.tiles) c.trianglesGround += t.ground.triangleCount() + t.land.triangleCount();
     c.trees = city.dressing.trees.size();
     c.lamps = city.dressing.lamps.size();
     for (const StreetTree& tree : city.dressing.trees)
@@ -417,6 +475,7 @@ Scene takeCityScene(City& city) {
             return n;
         };
         if (!tile.ground.positions.empty()) addChild(tileNode, meshNode(std::move(tile.ground)));
+        if (!tile.land.positions.empty()) addChild(tileNode, meshNode(std::move(tile.land)));
         for (int index : tile.buildings) {
             Building& b = city.buildings[static_cast<std::size_t>(index)];
             Node bn;

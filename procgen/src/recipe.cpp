@@ -49,6 +49,9 @@ constexpr Range kBool{};
 constexpr Range kScaleJitter{0.0, 0.5, false, false};
 constexpr Range kLampHeight{2.5, 15.0, false, false};
 constexpr Range kLampArm{0.0, 3.0, false, false};
+constexpr Range kMargin{0.0, 2000.0, false, false};
+constexpr Range kHillHeight{0.0, 200.0, false, false};
+constexpr Range kHillWavelength{20.0, 20000.0, false, false};
 
 using Ref = std::variant<double*, int*, bool*>;
 using Value = std::variant<double, int, bool>;
@@ -149,11 +152,16 @@ const std::array kFields{
     DAWNFORGE_RECIPE_FIELD(dressing, lampRed, kChance),
     DAWNFORGE_RECIPE_FIELD(dressing, lampGreen, kChance),
     DAWNFORGE_RECIPE_FIELD(dressing, lampBlue, kChance),
+
+    DAWNFORGE_RECIPE_FIELD(terrain, margin, kMargin),
+    DAWNFORGE_RECIPE_FIELD(terrain, hillHeight, kHillHeight),
+    DAWNFORGE_RECIPE_FIELD(terrain, hillWavelength, kHillWavelength),
 };
 
 #undef DAWNFORGE_RECIPE_FIELD
 
-constexpr std::array<const char*, 7> kSections{"streets", "coast", "lots", "buildings", "interiors", "roofs", "dressing"};
+constexpr std::array<const char*, 8> kSections{"streets", "coast",     "lots",     "buildings",
+                                               "interiors", "roofs", "dressing", "terrain"};
 constexpr const char* kDescription = "description";  // free text for humans, ignored
 
 std::string snakeCase(std::string_view camel) {

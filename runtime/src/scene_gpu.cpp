@@ -206,6 +206,8 @@ void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
             s.range = append(node, lo, hi);
             statics_.push_back(s);
         }
+        // The far land is a backdrop: the shadow map and the overlook fit the city, not it.
+        if (name.starts_with("land_")) continue;
         boundsMin_ = glm::min(boundsMin_, glm::dvec3(lo));
         boundsMax_ = glm::max(boundsMax_, glm::dvec3(hi));
     }

@@ -54,6 +54,7 @@ TEST(City, ATileAloneIsTheSameTileOfTheWholeCity) {
         ASSERT_NE(same, nullptr);
         EXPECT_EQ(alone.tiles[0].ground.positions, same->ground.positions);
         EXPECT_EQ(alone.tiles[0].ground.indices, same->ground.indices);
+        EXPECT_EQ(alone.tiles[0].land.positions, same->land.positions);
         EXPECT_EQ(alone.tiles[0].blocks, same->blocks);
         ASSERT_EQ(alone.tiles[0].buildings.size(), same->buildings.size());
         ASSERT_GT(same->buildings.size(), 0u);
@@ -67,6 +68,53 @@ TEST(City, ATileAloneIsTheSameTileOfTheWholeCity) {
             EXPECT_EQ(a.lod1.positions, b.lod1.positions);
             EXPECT_EQ(a.rooms.size(), b.rooms.size());
         }
+    }
+}
+
+// Beyond the city's land edges the ground rises into hills; the city stays flat, the sea
+// stays sea, and the terrain meets the city's edge at its height.
+TEST(City, TerrainRisesBeyondTheLandEdgesAndTheSeaStaysSea) {
+    const City& city = wholeCity();
+    const CitySettings s = smallCity();
+    const TerrainRecipe& t = s.recipe.terrain;
+    double highest = 0.0, farthest = 0.0;
+    std::size_t beyond = 0;
+    for (const CityTile& tile : city.tiles)
+        for (const glm::vec3& p : tile.ground.positions) {
+            const double x = p.x, y = -double(p.z), h = p.y;
+            const double out = std::max({-x, x - s.size.x, -y, y - s.size.y, 0.0});
+            farthest = std::max(farthest, out);
+            if (out <= 0.0) {
+                EXPECT_LE(h, s.recipe.streets.curbHeight + 1e-6) << "a hill inside the city at " << x << ", " << y;
+                continue;
+            }
+            ++beyond;
+            highest = std::max(highest, h);
+            EXPECT_LE(h, t.hillHeight + 1e-6);
+            EXPECT_GE(h, -s.recipe.coast.seabedDepth - 1e-6);
+            if (y < 0.0) EXPECT_LE(h, 0.0) << "south of the city is sea, at " << x << ", " << y;
+        }
+    EXPECT_GT(beyond, 1000u);
+    EXPECT_NEAR(farthest, t.margin, 10.0 + 1e-6);
+    EXPECT_GT(highest, 0.5 * t.hillHeight) << "no hills";
+    // The far land reaches kilometres out, beyond the margin, sea where the coast runs on.
+    double reach = 0.0;
+    for (const CityTile& tile : city.tiles)
+        for (const glm::vec3& p : tile.land.positions) {
+            const double x = p.x, y = -double(p.z);
+            const double out = std::max({-x, x - s.size.x, -y, y - s.size.y});
+            EXPECT_GE(out, t.margin - 1e-3);
+            reach = std::max(reach, out);
+            if (y < 0.0) EXPECT_LT(p.y, 0.0);
+        }
+    EXPECT_GT(reach, 4000.0);
+    // No terrain: the ground ends at the city's edge.
+    CitySettings flat = smallCity();
+    flat.recipe.terrain.margin = 0.0;
+    flat.tile = glm::ivec2(0, 0);
+    for (const glm::vec3& p : generateCity(flat).tiles[0].ground.positions) {
+        EXPECT_GE(p.x, -1e-4);
+        EXPECT_LE(p.z, 1e-4);
     }
 }
 

@@ -35,6 +35,7 @@ struct CitySettings {
 struct CityTile {
     glm::ivec2 index{0};
     Mesh ground;                 // terrain cells (streets are the ground between blocks) and block kerbs
+    Mesh land;                   // on the city's edge tiles: the far rings of terrain beyond the margin
     std::vector<int> buildings;  // indices into City::buildings
     std::vector<int> blocks;     // ids of the blocks whose kerb is in this tile
     std::vector<int> trees, lamps;  // indices into City::dressing's trees and lamps (by their foot's tile)
@@ -68,7 +69,8 @@ CityCounts countCity(const City& city);
 // tree species, trees and lamps.
 std::string cityReportJson(const City& city);
 
-// The glTF scene: one root node per tile ("tile_I_J") holding its ground ("ground_I_J") and
+// The glTF scene: one root node per tile ("tile_I_J") holding its ground ("ground_I_J"), on
+// edge tiles the far land ("land_I_J"), and
 // one node per building ("building_NNNNN") whose children show its LOD0 and LOD1 meshes
 // ("building_NNNNN_lod0", "..._lod1"), one node hierarchy per tree ("tree_NNNNN", the trunk,
 // and "tree_NNNNN_<element>" below it, sharing its species' meshes) and one node per lamp

@@ -80,6 +80,13 @@ struct RoofRecipe {
     int maxPitchedFloors = 8;      // taller buildings get flat roofs
 };
 
+// The land beyond the city's edge: fields rising into gentle hills, where it is not sea.
+struct TerrainRecipe {
+    double margin = 160.0;         // how far the ground reaches beyond the city; 0: none
+    double hillHeight = 10.0;      // the highest hills, metres above the city's ground
+    double hillWavelength = 220.0; // distance between hilltops
+};
+
 // Street trees and street lamps (dressing.hpp). A spacing of 0 means none.
 struct DressingRecipe {
     double treeSpacing = 14.0;     // between street-tree slots along a sidewalk: 0 or >= 4
@@ -101,6 +108,7 @@ struct CityRecipe {
     InteriorRecipe interiors;
     RoofRecipe roofs;
     DressingRecipe dressing;
+    TerrainRecipe terrain;
 };
 
 // Reads a recipe: every key optional; unknown keys, wrong types and out-of-range values
