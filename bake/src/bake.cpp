@@ -19,6 +19,7 @@
 #include <glm/mat3x3.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -63,6 +64,7 @@ struct CityStatic {
 struct CityInput {
     std::vector<CityBuilding> buildings;
     std::vector<CityStatic> statics;
+    std::vector<glm::vec3> streetLamps;  // city.json's lamps' lights, glTF axes
     std::string cityJson;
     std::vector<std::byte> glb;
 };
@@ -112,6 +114,11 @@ CityInput readCity(const std::filesystem::path& cityDir) {
                 throw InputError(format("{}: city.json lists {} buildings but city.glb holds {}: the city folder is incomplete or mixed",
                                         cityDir.string(), listed, city.buildings.size()));
         }
+        if (j.contains("lamps"))
+            for (const nlohmann::json& lamp : j["lamps"]) {
+                const auto l = lamp.at("light").get<std::array<double, 3>>();
+                city.streetLamps.emplace_back(float(l[0]), float(l[2]), float(-l[1]));
+            }
     } catch (const nlohmann::json::exception& e) {
         throw InputError(format("{}: {}", (cityDir / "city.json").string(), oneLine(e.what())));
     }
@@ -249,6 +256,19 @@ struct Receivers {
     std::vector<RoomWindow> windows;
 };
 
+// Each street lamp lights every receiver that comes within its range (the ground, the
+// buildings along its street), in lamp order, then receiver order.
+void addStreetLamps(std::span<const glm::vec3> streetLamps, Receivers& out) {
+    std::vector<Bounds> bounds;
+    for (const ReceiverData& r : out.data) bounds.push_back(computeBounds(r.positions));
+    for (const glm::vec3& lamp : streetLamps)
+        for (std::size_t r = 0; r < bounds.size(); ++r) {
+            const glm::dvec3 nearest = glm::clamp(glm::dvec3(lamp), bounds[r].min, bounds[r].max);
+            if (!out.data[r].positions.empty() && glm::length(nearest - glm::dvec3(lamp)) < kLampRange)
+                out.lamps.push_back({lamp, std::uint32_t(r), kStreetLampIntensity});
+        }
+}
+
 Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
     Receivers out;
     out.data.resize(city.buildings.size() + city.statics.size());
@@ -269,6 +289,7 @@ Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
         r.meshes.emplace_back(s.name, s.mesh.vertexCount());
         appendMesh(r, s.mesh, float(settings.groundTexel), float(settings.groundTexel), true, kSurfaceOffset);
     });
+    addStreetLamps(city.streetLamps, out);
     return out;
 }
 

@@ -608,7 +608,7 @@ private:
             }
             for (std::uint32_t l : s.lamps) {
                 const glm::vec3 lamp = lamps_[l].position;
-                const double e = lampIrradiance(glm::dvec3(lamp), glm::dvec3(origin), glm::dvec3(ts.normal));
+                const double e = lamps_[l].intensity * lampIrradiance(glm::dvec3(lamp), glm::dvec3(origin), glm::dvec3(ts.normal));
                 if (e <= 1e-5) continue;
                 Ray ray;
                 ray.origin = origin;

@@ -156,6 +156,8 @@ runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::Ci
     scene.cameras.push_back({"harbour", glm::dvec3(x + 45.0, 20.0, z + 60.0), glm::dvec3(x - 5.0, 8.0, c.z), 55.0});
     scene.cameras.push_back({"overview", glm::dvec3(x + 200.0, 190.0, z + 160.0), glm::dvec3(x, 0.0, z - 90.0), 50.0});
     scene.cameras.push_back({"street", glm::dvec3(x - 40.0, 2.0, z + 6.0), glm::dvec3(x, 10.0, c.z), 65.0});
+    // Along the promenade towards the building, past its street lamps (the night picture).
+    scene.cameras.push_back({"promenade", glm::dvec3(x - 70.0, 3.5, z + 12.0), glm::dvec3(x + 10.0, 5.0, z + 4.0), 60.0});
     // From the harbour towards the setting sun, which stands a third of the way up the picture.
     const glm::dvec3 sun = runtime::lightingAt(kSunsetHours).sunDirection;
     const glm::dvec3 level = glm::normalize(glm::dvec3(sun.x, 0.0, sun.z));
@@ -166,8 +168,8 @@ runtime::SceneFile demoScene(const std::filesystem::path& dir, const procgen::Ci
 }
 
 // Writes scene.json and three pictures of it: render.png from its first camera at the scene's
-// time of day, render_night.png from the street at 22:00 (lit windows, lamps and their
-// flares) and render_sunset.png from the harbour into the setting sun (its flare).
+// time of day, render_night.png along the promenade at 22:00 (lit windows, street lamps,
+// their light on the ground and their flares) and render_sunset.png from the harbour into the setting sun (its flare).
 void renderDemo(const DemoOptions& options, const procgen::CityBuilding& building) {
     const auto sceneFile = options.outputDir / "scene.json";
     writeFileAtomically(sceneFile, runtime::sceneFileJson(demoScene(options.outputDir, building), options.outputDir));
@@ -180,7 +182,7 @@ void renderDemo(const DemoOptions& options, const procgen::CityBuilding& buildin
         const char* camera;
         double hours;
     } pictures[] = {{"render.png", view.cameras.front().name.c_str(), view.timeOfDay},
-                    {"render_night.png", "street", 22.0},
+                    {"render_night.png", "promenade", 22.0},
                     {"render_sunset.png", "sunset", kSunsetHours}};
     for (const auto& p : pictures) {
         runtime::FrameSettings frame;

@@ -20,6 +20,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <optional>
 #include <set>
 
 namespace dawnforge::bake {
@@ -249,6 +251,65 @@ TEST_F(BakeCity, ABakeOfAnotherCityIsRefused) {
     std::vector<std::byte> glb = readBinaryFile(dir() / "one" / "city.glb");
     glb.back() = std::byte(int(glb.back()) ^ 1);
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { readBake(dir() / "one", glb); }), "another city.glb"));
+}
+
+// The lamp channel of the ground under a plan point (x, y): the highest upward triangle of
+// any ground_ mesh over it, its UV interpolated, the nearest texel decoded.
+std::optional<float> groundLamp(const BakeFolder& folder, const std::map<std::string, const Mesh*>& meshes, glm::dvec2 p) {
+    std::optional<float> best;
+    float bestHeight = -1e9f;
+    const glm::vec2 q(float(p.x), float(-p.y));  // glTF (x, z)
+    for (const BakedReceiver& r : folder.receivers)
+        for (const BakedMesh& bm : r.meshes) {
+            if (!bm.node.starts_with("ground_")) continue;
+            const Mesh& m = *meshes.at(bm.node);
+            for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+                const std::uint32_t* idx = &m.indices[3 * t];
+                const glm::vec3 a = m.positions[idx[0]], b = m.positions[idx[1]], c = m.positions[idx[2]];
+                if (glm::normalize(glm::cross(b - a, c - a)).y < 0.9f) continue;
+                // Barycentric coordinates of q in the triangle's xz projection.
+                const glm::vec2 v0(b.x - a.x, b.z - a.z), v1(c.x - a.x, c.z - a.z), v2(q.x - a.x, q.y - a.z);
+                const float den = v0.x * v1.y - v1.x * v0.y;
+                const float u = (v2.x * v1.y - v1.x * v2.y) / den, v = (v0.x * v2.y - v2.x * v0.y) / den;
+                if (u < 0.0f || v < 0.0f || u + v > 1.0f) continue;
+                const float h = a.y + u * (b.y - a.y) + v * (c.y - a.y);
+                if (h <= bestHeight) continue;
+                const glm::vec2 uv = bm.uv[idx[0]] + u * (bm.uv[idx[1]] - bm.uv[idx[0]]) + v * (bm.uv[idx[2]] - bm.uv[idx[0]]);
+                const int x = std::clamp(int(uv.x * float(r.width)), 0, r.width - 1);
+                const int y = std::clamp(int(uv.y * float(r.height)), 0, r.height - 1);
+                bestHeight = h;
+                best = decodeChannel(r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x)) + 3], 3);
+            }
+        }
+    return best;
+}
+
+// The street lamps of city.json light the pavement under them (the lamp channel), and
+// nothing lights the ground far from them.
+TEST_F(BakeCity, StreetLampsLightTheGroundUnderThem) {
+    const fs::path city = dir() / "one";
+    const BakeFolder folder = readBake(city, readBinaryFile(city / "city.glb"));
+    const std::vector<MeshNode> nodes = loadMeshNodes(city / "city.glb");
+    std::map<std::string, const Mesh*> meshes;
+    for (const MeshNode& n : nodes) meshes[n.name] = &n.mesh;
+    const nlohmann::json j = nlohmann::json::parse(test::readText(city / "city.json"));
+    std::vector<glm::dvec2> lights;
+    for (const nlohmann::json& l : j["lamps"]) lights.emplace_back(l["light"][0].get<double>(), l["light"][1].get<double>());
+    ASSERT_GE(lights.size(), 3u);
+    std::vector<float> near, far;
+    for (double x = 1.0; x < 120.0; x += 1.5)
+        for (double y = 1.0; y < 100.0; y += 1.5) {
+            double d = 1e9;
+            for (glm::dvec2 l : lights) d = std::min(d, glm::length(l - glm::dvec2(x, y)));
+            if (d > 1.5 && d < 9.0) continue;
+            const std::optional<float> a = groundLamp(folder, meshes, {x, y});
+            if (a) (d <= 1.5 ? near : far).push_back(*a);
+        }
+    ASSERT_GT(near.size(), 3u);
+    ASSERT_GT(far.size(), 100u);
+    const auto average = [](const std::vector<float>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); };
+    EXPECT_GT(average(near), 0.3) << "under a lamp";
+    EXPECT_LT(average(far), 0.02) << "out of every lamp's reach";
 }
 
 TEST(BakeInput, MissingOrIncompleteCitiesAndBudgetsAreRefusedWithNothingWritten) {

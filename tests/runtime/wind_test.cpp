@@ -1,10 +1,17 @@
 // The runtime's wind (wind.glsl), run on llvmpipe in a compute shader over a generated tree
 // species' Pivot Painter data: no wind moves nothing, and at any speed every element turns
-// rigidly about its own pivot, which its parent carries.
+// rigidly about its own pivot, which its parent carries. And a generated street with its
+// trees and lamps, by day and by night, against golden images (golden.hpp's tolerance).
+#include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/exporters/pivot_painter.hpp>
+#include <dawnforge/procgen/city.hpp>
 #include <dawnforge/procgen/dressing.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include "golden.hpp"
 #include "gpu_checks.hpp"
 #include "render_support.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
@@ -77,6 +84,39 @@ TEST(Wind, EveryElementTurnsRigidlyAboutItsOwnPivotWhichItsParentCarries) {
             EXPECT_GT(moved, 0.02 * speed) << "the crown sways";
             EXPECT_GT(downwind, 0.0) << "it leans the way the wind blows";
         }
+    }
+}
+
+// A small generated district; the camera stands in the street 15 m from its first lamp,
+// looking at the lamp head, with the trees and lamps of that sidewalk in view.
+TEST(Trees, DressedStreetByDayAndByNight) {
+    test::llvmpipeContext();
+    test::TempDir dir;
+    procgen::CitySettings settings;
+    settings.size = {160.0, 120.0};
+    settings.seed = 3;
+    procgen::City city = procgen::generateCity(settings);
+    const nlohmann::json report = nlohmann::json::parse(procgen::cityReportJson(city));
+    test::writeText(dir / "city.json", report.dump());
+    exporters::writeGlb(procgen::takeCityScene(city), dir / "city.glb");
+    ASSERT_FALSE(report["lamps"].empty());
+    const nlohmann::json& lamp = report["lamps"][0];
+    const glm::dvec3 light(lamp["light"][0].get<double>(), lamp["light"][2].get<double>(), -lamp["light"][1].get<double>());
+    const glm::dvec3 foot(lamp["foot"][0].get<double>(), 0.0, -lamp["foot"][1].get<double>());
+    const glm::dvec3 over = glm::normalize(glm::dvec3(light.x - foot.x, 0.0, light.z - foot.z));  // towards the street
+    const glm::dvec3 along(-over.z, 0.0, over.x);
+    SceneFile scene;
+    scene.cityDir = dir.path();
+    scene.time = 1.0;
+    RendererOptions options;
+    options.size = {160, 120};
+    options.shadowMapSize = 1024;
+    Renderer renderer(scene, options);
+    for (const auto& [name, hours] : {std::pair{"dressed_street_day", 15.0}, std::pair{"dressed_street_night", 22.0}}) {
+        FrameSettings frame = test::lookingAt(light + 4.0 * over + 15.0 * along + glm::dvec3(0.0, -2.0, 0.0), light, hours, 60.0);
+        frame.time = 1.0;
+        renderer.render(frame);
+        test::expectGolden(name, renderer.readPixels());
     }
 }
 

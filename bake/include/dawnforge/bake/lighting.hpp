@@ -66,9 +66,14 @@ double lampIrradiance(glm::dvec3 lamp, glm::dvec3 point, glm::dvec3 normal);
 // hash (interior.glsl, roomLampLit()), bit for bit.
 bool roomLampLit(std::uint32_t building, std::uint32_t room);
 
+// Street lamps (city.json's "lamps") are the same kind of light, this many times brighter:
+// the pavement under a lamp head 5.4 m up gets an irradiance of about 0.6.
+inline constexpr float kStreetLampIntensity = 4.0f;
+
 struct Lamp {
     glm::vec3 position{0.0f};
-    std::uint32_t receiver = 0;  // lights only this receiver's texels (its building)
+    std::uint32_t receiver = 0;  // lights only this receiver's texels (its building, or a street lamp's neighbours)
+    float intensity = 1.0f;      // × kLampIntensity
 };
 
 // A window of a room: a glass triangle and the direction into the room. The room's values
