@@ -690,7 +690,15 @@ TEST(CliCity, BadOptionsAndRecipesExit2AndWriteNothing) {
     expectBadInput({"city", "-o", out, "--recipe", (dir / "zero.json").string()}, "storey_height");
     test::writeText(dir / "broken.json", "{ \"streets\": ");
     expectBadInput({"city", "-o", out, "--recipe", (dir / "broken.json").string()}, "broken.json");
-    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"broken.json", "unknown.json", "zero.json"}));
+    // Malformed tree, lamp and terrain recipes.
+    test::writeText(dir / "trees.json", R"({"dressing": {"tree_spacing": 1.5}})");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "trees.json").string()}, "dressing.tree_spacing must be 0 (none) or at least 4");
+    test::writeText(dir / "lamps.json", R"({"dressing": {"lamp_height": "tall"}})");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "lamps.json").string()}, "dressing.lamp_height must be a number");
+    test::writeText(dir / "land.json", R"({"terrain": {"margin": -5}})");
+    expectBadInput({"city", "-o", out, "--recipe", (dir / "land.json").string()}, "terrain.margin");
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"broken.json", "lamps.json", "land.json", "trees.json", "unknown.json",
+                                                       "zero.json"}));
 }
 
 namespace {
