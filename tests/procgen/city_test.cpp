@@ -112,7 +112,8 @@ TEST(City, TerrainRisesBeyondTheLandEdgesAndTheSeaStaysSea) {
     CitySettings flat = smallCity();
     flat.recipe.terrain.margin = 0.0;
     flat.tile = glm::ivec2(0, 0);
-    for (const glm::vec3& p : generateCity(flat).tiles[0].ground.positions) {
+    const City bare = generateCity(flat);
+    for (const glm::vec3& p : bare.tiles[0].ground.positions) {
         EXPECT_GE(p.x, -1e-4);
         EXPECT_LE(p.z, 1e-4);
     }
