@@ -82,4 +82,25 @@ std::vector<glm::dvec3> gpuWind(const exporters::PivotPainter& painter, const st
     return bent;
 }
 
+std::vector<GpuProbeSample> gpuProbeMath(const ShRgb& sh, const AmbientCube& cube, const std::vector<glm::dvec3>& directions,
+                                         const std::vector<double>& distances) {
+    std::vector<glm::vec4> probe;
+    for (const glm::dvec3& c : sh.c) probe.emplace_back(glm::vec3(c), 0.0f);
+    for (const glm::dvec3& c : cube.c) probe.emplace_back(glm::vec3(c), 0.0f);
+    const gl::Buffer buffer = gl::makeBuffer(probe);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, buffer.id());
+    std::vector<glm::vec4> inputs;
+    for (std::size_t i = 0; i < directions.size(); ++i) inputs.emplace_back(glm::vec3(directions[i]), float(distances[i]));
+    const std::vector<glm::vec4> out = run(3, inputs, oceanUniforms(defaultWaves(), 0.0, 1.0, 2), 0, glm::mat4(1.0f));
+    std::vector<GpuProbeSample> samples(directions.size());
+    for (std::size_t i = 0; i < directions.size(); ++i) {
+        samples[i].shIrradiance = glm::dvec3(out[2 * i]);
+        samples[i].chebyshev = out[2 * i].w;
+        samples[i].ambientRed = out[2 * i + 1].x;
+        samples[i].oct = glm::dvec2(out[2 * i + 1].y, out[2 * i + 1].z);
+        samples[i].octRoundTripY = out[2 * i + 1].w;
+    }
+    return samples;
+}
+
 }  // namespace dawnforge::runtime

@@ -4,6 +4,7 @@
 // A GL context must be current.
 #include <dawnforge/exporters/pivot_painter.hpp>
 #include <dawnforge/runtime/ocean.hpp>
+#include <dawnforge/runtime/probe_math.hpp>
 
 #include <glm/glm.hpp>
 
@@ -30,5 +31,18 @@ struct GpuWindPoint {
 };
 std::vector<glm::dvec3> gpuWind(const exporters::PivotPainter& painter, const std::vector<GpuWindPoint>& points,
                                 glm::dvec3 direction, double speed, double time, double phase);
+
+// probes.glsl for each direction: the SH irradiance of `sh`, the ambient cube's irradiance
+// (red), octEncode and the y of octDecode(octEncode), and the Chebyshev visibility at
+// `distances` from a probe that saw mean 2 and mean square 4.5.
+struct GpuProbeSample {
+    glm::dvec3 shIrradiance;
+    double ambientRed = 0.0;
+    glm::dvec2 oct;
+    double octRoundTripY = 0.0;
+    double chebyshev = 0.0;
+};
+std::vector<GpuProbeSample> gpuProbeMath(const ShRgb& sh, const AmbientCube& cube, const std::vector<glm::dvec3>& directions,
+                                         const std::vector<double>& distances);
 
 }  // namespace dawnforge::runtime

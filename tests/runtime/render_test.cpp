@@ -18,6 +18,7 @@
 #include "render_support.hpp"
 #include "gpu_checks.hpp"
 #include <dawnforge/runtime/ocean.hpp>
+#include <dawnforge/runtime/probe_math.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 
 #include <gtest/gtest.h>
@@ -276,6 +277,37 @@ TEST(GpuChecks, WaveHeightsAgreeWithTheCpu) {
             EXPECT_LT(worstH, 0.01 * waves.noiseAmplitude + 1e-6) << "t " << t;
         }
     }
+}
+
+// probes.glsl against probe_math.cpp: single precision on the GPU, double on the CPU.
+TEST(GpuChecks, ProbeArithmeticAgreesWithTheCpu) {
+    context();
+    std::mt19937 rng(11);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::uniform_real_distribution<double> distance(0.0, 8.0);
+    std::vector<glm::dvec3> directions;
+    std::vector<double> distances;
+    while (directions.size() < 2000) {
+        const glm::dvec3 v(g(rng), g(rng), g(rng));
+        if (glm::length(v) < 1e-3) continue;
+        directions.push_back(glm::normalize(v));
+        distances.push_back(distance(rng));
+    }
+    ShRgb sh = shDirectional(glm::normalize(glm::dvec3(0.3, 0.9, -0.2)), {2.0, 1.6, 1.1});
+    sh += shDirectional(glm::normalize(glm::dvec3(-0.5, -0.4, 0.7)), {0.2, 0.3, 0.5});
+    const AmbientCube cube = ambientCubeFromSh(sh);
+    const std::vector<GpuProbeSample> gpu = gpuProbeMath(sh, cube, directions, distances);
+    ASSERT_EQ(gpu.size(), directions.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < directions.size(); ++i) {
+        const glm::dvec3& d = directions[i];
+        worst = std::max(worst, glm::length(gpu[i].shIrradiance - shIrradiance(sh, d)));
+        worst = std::max(worst, std::abs(gpu[i].ambientRed - ambientIrradiance(cube, d).r));
+        worst = std::max(worst, glm::length(gpu[i].oct - octEncode(d)));
+        worst = std::max(worst, std::abs(gpu[i].octRoundTripY - d.y));
+        worst = std::max(worst, std::abs(gpu[i].chebyshev - chebyshevVisibility(distances[i], 2.0, 4.5)));
+    }
+    EXPECT_LT(worst, 1e-5);
 }
 
 TEST(GpuChecks, GridVerticesLieOnTheWaterInsideTheView) {
