@@ -175,6 +175,25 @@ void boxesOf(const std::string& name, const char* kind, const Mesh& m, const std
     }
 }
 
+// A flat terrain (within 0.5 m) stays one box; hills and the sloping sea floor are cut into
+// kTerrainChunk-metre squares (by triangle centroid), each its own box, so that no box reaches
+// from a valley floor to a hilltop over the whole tile.
+constexpr double kTerrainChunk = 20.0;  // two 10 m ground cells: up to 6 m of hill slope
+std::vector<std::vector<std::uint32_t>> terrainChunks(const Mesh& m, const std::vector<std::uint32_t>& tris) {
+    double y0 = INFINITY, y1 = -INFINITY;
+    for (std::uint32_t t : tris)
+        for (int k = 0; k < 3; ++k) y0 = std::min(y0, corner(m, t, k).y), y1 = std::max(y1, corner(m, t, k).y);
+    if (y1 - y0 <= 0.5) return {tris};
+    std::map<std::pair<long, long>, std::vector<std::uint32_t>> chunks;  // ordered: the same boxes every run
+    for (std::uint32_t t : tris) {
+        const glm::dvec3 c = (corner(m, t, 0) + corner(m, t, 1) + corner(m, t, 2)) / 3.0;
+        chunks[{long(std::floor(c.x / kTerrainChunk)), long(std::floor(c.z / kTerrainChunk))}].push_back(t);
+    }
+    std::vector<std::vector<std::uint32_t>> out;
+    for (auto& [key, chunk] : chunks) out.push_back(std::move(chunk));
+    return out;
+}
+
 }  // namespace
 
 std::vector<ProxyBox> buildingProxies(const std::string& name, const Mesh& lod1) {
@@ -195,7 +214,9 @@ std::vector<ProxyBox> groundProxies(const std::string& name, const Mesh& ground)
     int part = 0;
     std::map<std::uint8_t, std::vector<std::uint32_t>> byMaterial;  // land and shore apart
     for (std::uint32_t t : all[terrain]) byMaterial[materialOf(ground, t)].push_back(t);
-    for (const auto& [material, tris] : byMaterial) boxesOf(name, "ground", ground, tris, part, out, false);
+    for (const auto& [material, tris] : byMaterial)
+        for (const std::vector<std::uint32_t>& chunk : terrainChunks(ground, tris))
+            boxesOf(name, "ground", ground, chunk, part, out, false);
     for (std::size_t i = 0; i < all.size(); ++i)
         if (i != terrain) boxesOf(name, "kerb", ground, all[i], part, out, false);
     return out;

@@ -12,7 +12,8 @@
 //
 // Boxes: one per section of a building (its LOD1 shell's connected parts: the base and a setback
 // tower), cut in two along its long axis while the box is less than 70 % full; one per street
-// segment (city.json's streets: asphalt); one per kerb block; one per ground tile. No half size
+// segment (city.json's streets: asphalt); one per kerb block; per ground tile one per material,
+// or one per 20 m square where that material is not flat (hills, the sea floor). No half size
 // is below 5 cm (flat ground: a 10 cm slab centred on it).
 //
 // Artists' overrides live beside the city, in CITY_DIR/proxy_colours.json (so that the generator
