@@ -12,6 +12,7 @@
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/procgen/city.hpp>
+#include <dawnforge/runtime/probe_placement.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -247,6 +248,50 @@ TEST_F(BakeCity, ProxiesCoverEveryBuildingWithColoursInRange) {
     }
     EXPECT_EQ(buildings.size(), report_.buildings);
     EXPECT_GT(kinds["ground"], 0);
+}
+
+// Probes placed from the bake's proxies along every street of the city: none inside a
+// building's LOD1 shell (tested against the shell's own triangles by a vertical ray count),
+// none under the ground, and some everywhere the camera goes.
+TEST_F(BakeCity, ProbesFromTheProxiesStayOutOfBuildingsAndTheGround) {
+    const fs::path city = dir() / "one";
+    const runtime::ProbeField field(runtime::parseProbeBoxes(test::readText(city / "bake" / "proxies.json"), "proxies.json"));
+    std::vector<Mesh> shells;
+    for (MeshNode& n : loadMeshNodes(city / "city.glb"))
+        if (n.name.ends_with("_lod1")) {
+            for (glm::vec3& p : n.mesh.positions) p = glm::vec3(n.world * glm::vec4(p, 1.0f));
+            shells.push_back(std::move(n.mesh));
+        }
+    // Inside a closed shell: an odd number of its triangles above the point (a ray straight up).
+    const auto insideShell = [&](glm::dvec3 p) {
+        for (const Mesh& m : shells) {
+            int crossings = 0;
+            for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+                const glm::dvec3 a(m.positions[m.indices[3 * t]]), b(m.positions[m.indices[3 * t + 1]]), c(m.positions[m.indices[3 * t + 2]]);
+                const double d = (b.z - c.z) * (a.x - c.x) + (c.x - b.x) * (a.z - c.z);
+                if (std::abs(d) < 1e-12) continue;
+                const double u = ((b.z - c.z) * (p.x - c.x) + (c.x - b.x) * (p.z - c.z)) / d;
+                const double v = ((c.z - a.z) * (p.x - c.x) + (a.x - c.x) * (p.z - c.z)) / d;
+                if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+                crossings += (u * a.y + v * b.y + (1.0 - u - v) * c.y) > p.y;
+            }
+            if (crossings % 2 == 1) return true;
+        }
+        return false;
+    };
+    std::size_t placed = 0, inside = 0, under = 0;
+    for (double x = 10.0; x < 120.0; x += 25.0)
+        for (double z = -10.0; z > -100.0; z -= 25.0) {
+            const std::vector<runtime::PlacedProbe> probes = field.place({x, 1.7, z}, {7.5, 4.0, 7.5}, 2.0);
+            placed += probes.size();
+            for (const runtime::PlacedProbe& p : probes) {
+                inside += insideShell(p.position);
+                under += p.position.y < 0.0;
+            }
+        }
+    EXPECT_GT(placed, 500u);
+    EXPECT_EQ(inside, 0u);
+    EXPECT_EQ(under, 0u);
 }
 
 TEST_F(BakeCity, ABakeOfAnotherCityIsRefused) {
