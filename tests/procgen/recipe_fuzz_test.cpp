@@ -73,7 +73,8 @@ TEST(RecipeFuzz, OddValuesAreRefusedOrMakeACity) {
     const std::string base = example("downtown.json");
     Rng rng(deriveSeed(2, "recipe-fuzz"));
     int cities = 0;
-    for (int i = 0; i < 300; ++i) {
+    const int cases = DAWNFORGE_SANITIZED ? 100 : 300;  // a third under the sanitizers: same paths, 3x slower each
+    for (int i = 0; i < cases; ++i) {
         const std::string text = mutateValue(base, rng);
         CitySettings settings;
         try {
@@ -90,7 +91,7 @@ TEST(RecipeFuzz, OddValuesAreRefusedOrMakeACity) {
         } catch (const InputError&) {
         }
     }
-    EXPECT_GT(cities, 50);
+    EXPECT_GT(cities, cases / 6);
 }
 
 }  // namespace
