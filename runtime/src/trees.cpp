@@ -53,46 +53,46 @@ std::vector<MeshNode> treeSpaceNodes(const std::vector<MeshNode>& all, const Tre
     return out;
 }
 
-// Splits `nodes` into the trees (each "tree_" node with its "tree_" descendants, when it has
-// any) and everything else.
-std::vector<TreeNodes> takeTrees(std::vector<MeshNode>& nodes, std::vector<MeshNode>& trees) {
+// Which tree each node belongs to (-1: none): a "tree_" node with its "tree_" descendants is
+// one tree when it has any; a "tree_" node alone has no hierarchy to sway and stays static.
+std::vector<int> treeOfNodes(const std::vector<MeshNode>& nodes, int& count) {
     std::vector<int> tree(nodes.size(), -1);
-    std::vector<TreeNodes> out;
+    std::vector<std::size_t> size;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         if (!isTreeNode(nodes[i])) continue;
         const int parent = nodes[i].parent;
-        if (parent >= 0 && tree[std::size_t(parent)] >= 0) {
-            tree[i] = tree[std::size_t(parent)];
-        } else {
-            tree[i] = int(out.size());
-            out.emplace_back();
-        }
+        tree[i] = parent >= 0 && tree[std::size_t(parent)] >= 0 ? tree[std::size_t(parent)] : int(size.size());
+        if (tree[i] == int(size.size())) size.push_back(0);
+        ++size[std::size_t(tree[i])];
     }
-    // A "tree_" node alone has no hierarchy to sway: it stays with the static meshes.
-    std::vector<std::size_t> size(out.size(), 0);
-    for (int t : tree)
-        if (t >= 0) ++size[std::size_t(t)];
-    std::vector<int> renumber(out.size(), -1);
-    int kept = 0;
-    for (std::size_t t = 0; t < out.size(); ++t)
-        if (size[t] > 1) renumber[t] = kept++;
+    std::vector<int> renumber(size.size(), -1);
+    count = 0;
+    for (std::size_t t = 0; t < size.size(); ++t)
+        if (size[t] > 1) renumber[t] = count++;
     for (int& t : tree) t = t >= 0 ? renumber[std::size_t(t)] : -1;
-    out.resize(std::size_t(kept));
+    return tree;
+}
+
+// Splits `nodes` into the trees' nodes (moved to `trees`, each tree's trunk first) and the
+// rest, parents renumbered within each list (a parent in the other list becomes -1).
+std::vector<TreeNodes> takeTrees(std::vector<MeshNode>& nodes, std::vector<MeshNode>& trees) {
+    int count = 0;
+    const std::vector<int> tree = treeOfNodes(nodes, count);
+    std::vector<TreeNodes> out(static_cast<std::size_t>(count));
     std::vector<MeshNode> rest;
     std::vector<int> newIndex(nodes.size(), -1);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
-        if (tree[i] < 0) {
-            newIndex[i] = int(rest.size());
-            rest.push_back(std::move(nodes[i]));
-            continue;
-        }
-        out[std::size_t(tree[i])].nodes.push_back(trees.size());
-        newIndex[i] = int(trees.size());
-        trees.push_back(std::move(nodes[i]));
+        std::vector<MeshNode>& list = tree[i] < 0 ? rest : trees;
+        if (tree[i] >= 0) out[std::size_t(tree[i])].nodes.push_back(trees.size());
+        newIndex[i] = int(list.size());
+        list.push_back(std::move(nodes[i]));
     }
-    // Parents renumbered within each list (a tree's parents are in the tree; others' outside it).
-    for (MeshNode& n : trees) n.parent = n.parent >= 0 ? newIndex[std::size_t(n.parent)] : -1;
-    for (MeshNode& n : rest) n.parent = n.parent >= 0 && tree[std::size_t(n.parent)] < 0 ? newIndex[std::size_t(n.parent)] : -1;
+    const auto renumber = [&](MeshNode& n, bool inTree) {
+        const bool sameList = n.parent >= 0 && (tree[std::size_t(n.parent)] >= 0) == inTree;
+        n.parent = sameList ? newIndex[std::size_t(n.parent)] : -1;
+    };
+    for (MeshNode& n : trees) renumber(n, true);
+    for (MeshNode& n : rest) renumber(n, false);
     nodes = std::move(rest);
     return out;
 }
