@@ -11,11 +11,13 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <map>
+#include <mutex>
+#include <numbers>
 #include <span>
 
 namespace dawnforge::procgen {
@@ -39,10 +41,27 @@ double smoothstep(double e0, double e1, double x) {
     return t * t * (3.0 - 2.0 * t);
 }
 
+// The hills' three crossed waves: each a direction and a phase, turned and shifted by the seed.
+struct Hills {
+    std::array<glm::dvec2, 3> dir;
+    std::array<double, 3> phase;
+};
+
+Hills hillsOf(std::uint64_t seed) {
+    Hills h;
+    for (std::uint64_t k = 0; k < 3; ++k) {
+        Rng rng(deriveSeed(seed, "hills", k));
+        const double angle = rng.uniform(0.0, 6.283185307179586);
+        h.phase[k] = rng.uniform(0.0, 6.283185307179586);
+        h.dir[k] = {std::cos(angle), std::sin(angle)};
+    }
+    return h;
+}
+
 // The land beyond the city's edge: the city's ground where that is sea, and otherwise hills
-// that rise from 0 at the edge (and at the shore) over 0.4 wavelengths: three crossed waves
-// of the recipe's wavelength, turned and shifted by the seed.
-double terrainHeight(const City& city, glm::dvec2 p) {
+// that rise from 0 at the edge (and at the shore) over 0.4 wavelengths: the three waves of
+// `hills` at the recipe's wavelength.
+double terrainHeight(const City& city, const Hills& hills, glm::dvec2 p) {
     const CitySettings& s = city.settings;
     const TerrainRecipe& t = s.recipe.terrain;
     const double ground = groundHeight(city.plan, s.recipe.coast, p);
@@ -51,12 +70,8 @@ double terrainHeight(const City& city, glm::dvec2 p) {
     if (ground < 0.0 || beyond <= 0.0 || t.hillHeight <= 0.0) return ground;
     const double shore = p.y - (coastY(city.plan, p.x) - kQuay);  // +inf without a sea
     double wave = 0.0;
-    for (std::uint64_t k = 0; k < 3; ++k) {
-        Rng rng(deriveSeed(s.seed, "hills", k));
-        const double angle = rng.uniform(0.0, 6.283185307179586), phase = rng.uniform(0.0, 6.283185307179586);
-        const glm::dvec2 dir(std::cos(angle), std::sin(angle));
-        wave += std::sin(glm::dot(p, dir) * 6.283185307179586 / t.hillWavelength + phase) / 3.0;
-    }
+    for (std::size_t k = 0; k < 3; ++k)
+        wave += std::sin(glm::dot(p, hills.dir[k]) * 6.283185307179586 / t.hillWavelength + hills.phase[k]) / 3.0;
     const double rise = 0.4 * t.hillWavelength;
     return t.hillHeight * smoothstep(0.0, rise, beyond) * smoothstep(0.0, rise, shore) * (0.5 + 0.5 * wave);
 }
@@ -77,12 +92,12 @@ double cellEdge(int i, int cells, double size, int margin) {
 }
 
 // One ground cell: asphalt in the city, grass beyond it, sand where a corner is under water.
-void addCell(MeshBuilder& mb, const City& city, glm::dvec2 lo, glm::dvec2 hi, bool inCity) {
+void addCell(MeshBuilder& mb, const City& city, const Hills& hills, glm::dvec2 lo, glm::dvec2 hi, bool inCity) {
     const glm::dvec2 c[4] = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
     glm::dvec3 p[4];
     bool wet = false;
     for (int k = 0; k < 4; ++k) {
-        p[k] = {c[k], terrainHeight(city, c[k])};
+        p[k] = {c[k], terrainHeight(city, hills, c[k])};
         wet = wet || p[k].z < 0.0;
     }
     const std::uint8_t material = wet ? kSand : inCity ? kAsphalt : kGround;
@@ -106,6 +121,7 @@ Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks, 
     const int nx = static_cast<int>(std::ceil(s.size.x / kCellSize)), ny = static_cast<int>(std::ceil(s.size.y / kCellSize));
     const int margin = static_cast<int>(std::ceil(s.recipe.terrain.margin / kCellSize));
     const int rings = margin > 0 ? kFarRings : 0;
+    const Hills hills = hillsOf(s.seed);
     auto cellRange = [&](int t, int tiles, int cells) {
         const int lo = t == 0 ? -margin - rings : std::max(0, static_cast<int>(std::floor(t * s.tileSize / kCellSize)) - 1);
         const int hi = t == tiles - 1 ? cells + margin + rings
@@ -122,7 +138,7 @@ Mesh tileGround(const City& city, glm::ivec2 tile, std::span<const int> blocks, 
             if (tileOf(s, centre) != tile) continue;
             const bool inCity = centre.x > 0.0 && centre.y > 0.0 && centre.x < s.size.x && centre.y < s.size.y;
             const bool inFar = i < -margin || j < -margin || i >= nx + margin || j >= ny + margin;
-            addCell(inFar ? far : mb, city, lo, hi, inCity);
+            addCell(inFar ? far : mb, city, hills, lo, hi, inCity);
         }
     land.uv1.clear();
     land.uv2.clear();
@@ -188,7 +204,7 @@ void addDressingJson(nlohmann::ordered_json& j, const City& city) {
                          {"tile", {tile.x, tile.y}},
                          {"foot", point(t.foot)},
                          {"height", round3(t.height)},
-                         {"yaw_degrees", round3(t.yaw * 180.0 / 3.14159265358979323846)},
+                         {"yaw_degrees", round3(t.yaw * 180.0 / std::numbers::pi)},
                          {"scale", round3(t.scale)}});
     }
     j["trees"] = std::move(trees);
@@ -243,8 +259,9 @@ void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std:
             n.rotation = e.rotation;
             if (e.parent < 0) {
                 n.translation = toWorld(tree.foot, tree.height);
+                // Stood up as speciesNodes stands the trunk (+X onto +Y), then turned.
                 n.rotation = glm::angleAxis(float(tree.yaw), glm::vec3(0, 1, 0)) *
-                             glm::angleAxis(float(0.5 * 3.14159265358979323846), glm::vec3(0, 0, 1)) * e.rotation;
+                             glm::angleAxis(float(0.5 * std::numbers::pi), glm::vec3(0, 0, 1)) * e.rotation;
                 n.scale = glm::vec3(float(tree.scale));
                 n.extrasJson = format(R"({{"species":"{}"}})", species.name);
             }

@@ -173,7 +173,7 @@ std::vector<Slot> sidewalkSlots(const Polygon2& curb, double spacing, double pha
     return slots;
 }
 
-// Whether a point `offset` metres into the block stands on its sidewalk, clear of the street.
+// Whether p stands on the block's sidewalk, at least `margin` metres from the kerb and from the lots.
 bool onSidewalk(const Block& block, glm::dvec2 p, double margin) {
     return containsPoint(block.curb, p) && !containsPoint(block.inner, p) && distanceToBoundary(block.curb, p) >= margin &&
            distanceToBoundary(block.inner, p) >= margin;
@@ -229,7 +229,7 @@ void dressBlock(const Block& block, const CityRecipe& recipe, std::uint64_t seed
 
 }  // namespace
 
-std::vector<TreeSpecies> makeTreeSpecies(const DressingRecipe&, std::uint64_t seed) {
+std::vector<TreeSpecies> makeTreeSpecies(std::uint64_t seed) {
     std::vector<TreeSpecies> species;
     for (std::size_t k = 0; k < std::size(kShapes); ++k) species.push_back(makeSpecies(kShapes[k], deriveSeed(seed, "tree-shape", k)));
     return species;
@@ -237,7 +237,6 @@ std::vector<TreeSpecies> makeTreeSpecies(const DressingRecipe&, std::uint64_t se
 
 Mesh makeLampMesh(const DressingRecipe& d) {
     Mesh m;
-    m.name = "lamp";
     Mesh part;
     addTube(part, d.lampHeight, 0.09, 0.06, kMetal, 8);
     // The pole along +Y: +X turned a quarter about +Z.
@@ -269,7 +268,7 @@ std::vector<MeshNode> speciesNodes(const TreeSpecies& species) {
 
 Dressing dressCity(const CityPlan& plan, const CityRecipe& recipe, std::uint64_t seed) {
     Dressing out;
-    out.species = makeTreeSpecies(recipe.dressing, seed);
+    out.species = makeTreeSpecies(seed);
     out.lamp = makeLampMesh(recipe.dressing);
     for (const Block& block : plan.blocks) {
         if (block.curb.size() < 3 || block.inner.size() < 3) continue;

@@ -127,7 +127,7 @@ TEST(Dressing, LampsReachOverTheStreetAndTreesAreOfTheListedSpecies) {
 
 // Each species is a three-level hierarchy whose children sit on their parent's axis.
 TEST(Dressing, SpeciesArePivotPainterHierarchiesWithChildrenOnTheirParentsAxis) {
-    for (const TreeSpecies& s : makeTreeSpecies({}, 5)) {
+    for (const TreeSpecies& s : makeTreeSpecies(5)) {
         const exporters::PivotPainter pp =
             exporters::buildPivotPainter(speciesNodes(s), exporters::PivotPreset::Native, s.name);
         EXPECT_EQ(pp.levels, 3) << s.name;

@@ -37,7 +37,7 @@ struct WindCase {
 };
 
 WindCase windCase(int species) {
-    const procgen::TreeSpecies s = procgen::makeTreeSpecies({}, 9)[std::size_t(species)];
+    const procgen::TreeSpecies s = procgen::makeTreeSpecies(9)[std::size_t(species)];
     WindCase c{exporters::buildPivotPainter(procgen::speciesNodes(s), exporters::PivotPreset::Native, s.name), {}, 0};
     for (std::size_t v = 0; v < c.pp.mesh.positions.size(); ++v) c.points.push_back({c.pp.mesh.positions[v], c.pp.mesh.uv1[v]});
     c.vertices = c.points.size();

@@ -60,8 +60,8 @@ struct Dressing {
     std::vector<StreetLamp> lamps;   // in slot order; id = index
 };
 
-// The species and the lamp mesh of `recipe` (deterministic in recipe and seed).
-std::vector<TreeSpecies> makeTreeSpecies(const DressingRecipe& recipe, std::uint64_t seed);
+// The tree species of `seed`, and the lamp mesh of `recipe`.
+std::vector<TreeSpecies> makeTreeSpecies(std::uint64_t seed);
 Mesh makeLampMesh(const DressingRecipe& recipe);
 // A species as the node list that Pivot Painter reads (each element a node, world = its chain
 // of local transforms, the tree standing at the origin).
