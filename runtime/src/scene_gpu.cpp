@@ -65,6 +65,15 @@ void vertexLayout(GLuint vao) {
     }
 }
 
+void growPlacedBox(glm::dvec3 boxMin, glm::dvec3 boxMax, const glm::mat4& model, glm::dvec3& lo, glm::dvec3& hi) {
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner((c & 1) ? boxMax.x : boxMin.x, (c & 2) ? boxMax.y : boxMin.y, (c & 4) ? boxMax.z : boxMin.z);
+        const glm::dvec3 p = glm::dvec3(model * glm::vec4(glm::vec3(corner), 1.0f));
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+}
+
 void instancedLayout(GLuint vao, GLuint vertices, GLuint indices, GLuint instances, GLsizei instanceStride,
                      GLuint blocksOffset, GLuint buildingOffset) {
     vertexLayout(vao);
@@ -312,13 +321,7 @@ void SceneGpu::loadVat(const DestructionInstance& d) {
     glVertexArrayVertexBuffer(vao, 0, v.vertices.id(), 0, sizeof(VatVertex));
     glVertexArrayElementBuffer(vao, v.indices.id());
     // Bounds over the whole animation, placed.
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? file.boundsMax.x : file.boundsMin.x, (c & 2) ? file.boundsMax.y : file.boundsMin.y,
-                                (c & 4) ? file.boundsMax.z : file.boundsMin.z);
-        const glm::dvec3 p = glm::dvec3(v.model * glm::vec4(glm::vec3(corner), 1.0f));
-        boundsMin_ = glm::min(boundsMin_, p);
-        boundsMax_ = glm::max(boundsMax_, p);
-    }
+    growPlacedBox(file.boundsMin, file.boundsMax, v.model, boundsMin_, boundsMax_);
     vats_.push_back(std::move(v));
 }
 
@@ -445,14 +448,17 @@ std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj
 }
 
 std::size_t SceneGpu::drawShadow(double time) {
-    // The falling pieces cast shadows too.
-    return drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time) + trees_.draw(wind_, time, &lightViewProj_, nullptr) +
-           drawVats(time, true, nullptr);
+    // The trees and the falling pieces cast shadows too. In sequence: drawShells binds and
+    // clears the shadow map (the operands of + have no order).
+    std::size_t draws = drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time);
+    draws += trees_.draw(wind_, time, &lightViewProj_, nullptr);
+    return draws + drawVats(time, true, nullptr);
 }
 
 std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time,
                                  FrameStats& stats) {
-    if (statics_.empty() && buildings_.empty()) return 0;
+    // Trees after the city, or alone where a scene has nothing else.
+    if (statics_.empty() && buildings_.empty()) return trees_.draw(wind_, time, nullptr, &stats);
     glUseProgram(surface_.id());
     glUniform1i(4, roomStyles_);
     std::vector<Command> commands;
@@ -474,7 +480,8 @@ std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, d
         commands.push_back({r.count, 1, r.firstIndex, r.baseVertex, b.instance});
         stats.triangles += r.count / 3;
     }
-    return drawStatic(commands) + trees_.draw(wind_, time, nullptr, &stats);
+    const std::size_t city = drawStatic(commands);  // first: the operands of + have no order
+    return city + trees_.draw(wind_, time, nullptr, &stats);
 }
 
 std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {

@@ -25,6 +25,8 @@ struct StaticVertex {
 StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, const glm::mat3& normalMatrix);
 // Attributes 0-5 and 9 of `vao` from binding 0 in the StaticVertex layout.
 void vertexLayout(GLuint vao);
+// [lo, hi] grown around the eight corners of the box [boxMin, boxMax] placed by `model`.
+void growPlacedBox(glm::dvec3 boxMin, glm::dvec3 boxMax, const glm::mat4& model, glm::dvec3& lo, glm::dvec3& hi);
 // vertexLayout, the vertex and index buffers, and per-instance attributes 6 (uvec4: the atlas
 // blocks) and 7 (uint: the building id) from binding 1 at the given offsets.
 void instancedLayout(GLuint vao, GLuint vertices, GLuint indices, GLuint instances, GLsizei instanceStride,

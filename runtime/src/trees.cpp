@@ -2,12 +2,9 @@
 
 #include "static_vertex.hpp"
 
-#include <dawnforge/core/format.hpp>
-
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <limits>
 
 namespace dawnforge::runtime {
 
@@ -109,17 +106,6 @@ std::vector<std::vector<std::size_t>> groupSpecies(const std::vector<MeshNode>& 
     return members;
 }
 
-// [lo, hi] grown around `mesh`'s box placed by `model`.
-void growBounds(const Mesh& mesh, const glm::mat4& model, glm::dvec3& lo, glm::dvec3& hi) {
-    const Bounds b = computeBounds(mesh.positions);
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? b.max.x : b.min.x, (c & 2) ? b.max.y : b.min.y, (c & 4) ? b.max.z : b.min.z);
-        const glm::dvec3 p(model * glm::vec4(glm::vec3(corner), 1.0f));
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-}
-
 }  // namespace
 
 PivotTextures uploadPivotTextures(const exporters::PivotPainter& painter) {
@@ -157,10 +143,11 @@ void TreeGpu::load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& 
         for (std::size_t i = 0; i < pp.mesh.positions.size(); ++i)
             vertices.push_back(staticVertex(pp.mesh, i, glm::mat4(1.0f), glm::mat3(1.0f)));
         indices.insert(indices.end(), pp.mesh.indices.begin(), pp.mesh.indices.end());
+        const Bounds box = computeBounds(pp.mesh.positions);
         for (std::size_t t : members[s]) {
             const glm::mat4& model = treeNodes[trees[t].nodes[0]].world;
             instances.push_back({model, blocks, 0xffffu, {0, 0, 0}});
-            growBounds(pp.mesh, model, lo, hi);
+            growPlacedBox(box.min, box.max, model, lo, hi);
         }
         species_.push_back(std::move(sp));
     }
