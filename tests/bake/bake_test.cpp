@@ -76,6 +76,14 @@ protected:
 TempDir* BakeCity::dir_ = nullptr;
 BakeReport BakeCity::report_;
 
+// The four decoded channels of the lightmap texel nearest uv.
+glm::vec4 texelAt(const BakedReceiver& r, glm::vec2 uv) {
+    const int x = std::clamp(int(uv.x * float(r.width)), 0, r.width - 1);
+    const int y = std::clamp(int(uv.y * float(r.height)), 0, r.height - 1);
+    const std::uint8_t* p = &r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x))];
+    return {decodeChannel(p[0], 0), decodeChannel(p[1], 1), decodeChannel(p[2], 2), decodeChannel(p[3], 3)};
+}
+
 // The lightmap value at the centroid of each triangle (nearest texel), by material, for every
 // receiver of the bake: what the runtime reads, taken from the files.
 struct Samples {
@@ -96,11 +104,7 @@ Samples sampleCentroids(const fs::path& cityDir) {
             for (std::size_t t = 0; t < m.triangleCount(); ++t) {
                 const std::uint32_t* idx = &m.indices[3 * t];
                 const glm::vec2 uv = (bm.uv[idx[0]] + bm.uv[idx[1]] + bm.uv[idx[2]]) / 3.0f;
-                const int x = std::clamp(int(uv.x * float(r.width)), 0, r.width - 1);
-                const int y = std::clamp(int(uv.y * float(r.height)), 0, r.height - 1);
-                const std::uint8_t* p = &r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x))];
-                out.byMaterial[m.materialIds[idx[0]]].emplace_back(decodeChannel(p[0], 0), decodeChannel(p[1], 1),
-                                                                    decodeChannel(p[2], 2), decodeChannel(p[3], 3));
+                out.byMaterial[m.materialIds[idx[0]]].push_back(texelAt(r, uv));
             }
         }
     return out;
@@ -322,10 +326,8 @@ std::optional<float> groundLamp(const BakeFolder& folder, const std::map<std::st
                 const float h = a.y + u * (b.y - a.y) + v * (c.y - a.y);
                 if (h <= bestHeight) continue;
                 const glm::vec2 uv = bm.uv[idx[0]] + u * (bm.uv[idx[1]] - bm.uv[idx[0]]) + v * (bm.uv[idx[2]] - bm.uv[idx[0]]);
-                const int x = std::clamp(int(uv.x * float(r.width)), 0, r.width - 1);
-                const int y = std::clamp(int(uv.y * float(r.height)), 0, r.height - 1);
                 bestHeight = h;
-                best = decodeChannel(r.rgba[4 * (std::size_t(y) * std::size_t(r.width) + std::size_t(x)) + 3], 3);
+                best = texelAt(r, uv).a;
             }
         }
     return best;
