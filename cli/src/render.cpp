@@ -6,6 +6,7 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/runtime/context.hpp>
+#include <dawnforge/runtime/probe_placement.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -56,6 +57,12 @@ std::unique_ptr<runtime::GlContext> headlessContext() {
     }
 }
 
+void addProbesOption(CLI::App& cmd, std::optional<std::string>& probes) {
+    cmd.add_option("--probes", probes,
+                   "Irradiance probes: off, low, mid or high (default: the scene's \"probes\"; any but off needs the city's bake)")
+        ->check(CLI::IsMember({"off", "low", "mid", "high"}));
+}
+
 struct RenderOptions {
     std::filesystem::path sceneFile;
     std::filesystem::path output;
@@ -64,6 +71,7 @@ struct RenderOptions {
     std::optional<int> frame;          // time = frame / fps; default: the scene's time
     bool stats = false;
     int repeat = 5;                    // --stats: timed frames after one warm-up; the median is reported
+    std::optional<std::string> probes; // overrides the scene's probe preset
     runtime::RendererOptions renderer;
 };
 
@@ -75,7 +83,8 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
         throw InputError(format("{}: the output must be a .png file", options.output.string()));
     if (options.timeOfDay && !(*options.timeOfDay >= 0.0 && *options.timeOfDay <= 24.0))
         throw InputError(format("--time-of-day: expected hours from 0 to 24 (got {})", *options.timeOfDay));
-    const runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
+    runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
+    if (options.probes) scene.probes.preset = *options.probes;
     if (options.output.has_parent_path()) ensureOutputDirectory(options.output.parent_path());
 
     const auto context = headlessContext();
@@ -87,6 +96,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
 
     runtime::FrameStats stats = renderer.render(frame);
     exporters::Image image = renderer.readPixels(&stats);
+    const runtime::ProbeStats firstProbes = stats.probes;  // the frame that captured them
     if (options.stats) {
         // The first frame pays for shader compilation and first uploads: time the next ones,
         // pipelined for the frame time, then with a glFinish after each pass for the split.
@@ -103,6 +113,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
         const double frameMs = median(false).frameMs;
         stats = median(true);
         stats.frameMs = frameMs;
+        stats.probes = firstProbes;
     }
     exporters::writePng(image, options.output);
     if (options.stats)
@@ -118,16 +129,20 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
 struct ViewOptions {
     std::filesystem::path sceneFile;
     std::string camera;
+    std::optional<std::string> probes;
     int frames = 0;  // > 0: close after this many frames (smoke tests, timing the window path)
     runtime::RendererOptions renderer;
 };
 
 int runView(const ViewOptions& options, const CommonOptions& common) {
-    const runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
+    runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
+    if (options.probes) scene.probes.preset = *options.probes;
     const auto window =
         runtime::GlContext::window(options.renderer.size, "dawnforge view: " + options.sceneFile.string());
     runtime::RendererOptions ro = options.renderer;
     ro.size = window->framebufferSize();
+    // The preset's probes per second, spread over frames at about 30 per second.
+    if (const auto preset = runtime::probePreset(scene.probes.preset)) ro.probeBudget = int(std::ceil(preset->probesPerSecond / 30.0));
     runtime::Renderer renderer(scene, ro);
     runtime::FrameSettings frame;
     frame.camera = chooseCamera(scene, renderer, options.camera);
@@ -186,6 +201,7 @@ Command addRender(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--time-of-day", o->timeOfDay, "Hours, 0 to 24 (default: the scene's)");
     cmd->add_option("--frame", o->frame, "Frame number: scene time = frame / fps (default: the scene's time)")
         ->check(CLI::NonNegativeNumber);
+    addProbesOption(*cmd, o->probes);
     cmd->add_flag("--stats", o->stats, "Print per-pass GPU and CPU times as JSON on stdout");
     cmd->add_option("--repeat", o->repeat, "With --stats: timed frames after a warm-up (median reported)")
         ->check(CLI::Range(1, 1000))->capture_default_str();
@@ -200,6 +216,7 @@ Command addView(CLI::App& app, CommonOptions& common) {
     cmd->add_option("SCENE", o->sceneFile, "Scene file (scene.json)")->required();
     addImageSizeOption(*cmd, o->renderer.size, "Window size WxH");
     cmd->add_option("--camera", o->camera, "Named camera to start from");
+    addProbesOption(*cmd, o->probes);
     cmd->add_option("--frames", o->frames, "Close after this many frames (0: when the window is closed)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     return {cmd, [o, &common] { return runView(*o, common); }};

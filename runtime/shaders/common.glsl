@@ -47,12 +47,22 @@ float sunShadow(vec3 worldPos, vec3 normal) {
     return sum * 0.25;
 }
 
-// Diffuse light on a surface: the sun with its shadow plus a sky/ground hemisphere.
+#include "probe_light.glsl"
+
+// Light that is not the direct sun: the probes' irradiance / π where probes are near (the
+// renderer's light unit: an open sky gives the hemisphere term's 0.45 (zenith + horizon)), the
+// sky/ground hemisphere elsewhere, blended where the probes thin out.
+vec3 ambientLight(vec3 worldPos, vec3 n) {
+    vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
+    vec4 probe = probeIrradiance(worldPos, n);
+    return mix(hemi, probe.rgb / kPi, clamp(probe.w * 8.0, 0.0, 1.0));
+}
+
+// Diffuse light on a surface: the sun with its shadow plus the ambient light.
 vec3 diffuseLight(vec3 worldPos, vec3 n) {
     float ndl = max(dot(n, frame.sunDir.xyz), 0.0);
     float shadow = ndl > 0.0 ? sunShadow(worldPos, n) : 0.0;
-    vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5);
-    return frame.sunColor.rgb * ndl * shadow + hemi * 0.9;
+    return frame.sunColor.rgb * ndl * shadow + ambientLight(worldPos, n);
 }
 
 // Baked lighting (bake/lighting.hpp, CITY_DIR/bake/): R sky, G sun bounce averaged over the

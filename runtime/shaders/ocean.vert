@@ -21,16 +21,13 @@ layout(std140, binding = 2) uniform Ocean {
     vec4 params;       // level, shore depth, noise amplitude, grid columns
 } ocean;
 layout(binding = 5) uniform sampler2D waveNoise;
-layout(binding = 6) uniform sampler2D overlookDepthTexture;
 out vec3 vWorld;
 out vec3 vNormal;
 out float vShore;  // 0 at the shore, 1 in open water
 
 float shoreAttenuation(vec2 xz) {
-    vec2 uv = (xz - frame.overlook.xy) / frame.overlook.zw;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
-    float depth = textureLod(overlookDepthTexture, uv, 0.0).r;
-    float ground = frame.overlookDepth.x - (frame.overlookDepth.y + depth * frame.overlookDepth.z);
+    float ground = overlookHeight(xz);
+    if (ground < -1e8) return 1.0;
     return smoothstep(0.0, ocean.params.y, ocean.params.x - ground);
 }
 

@@ -47,9 +47,12 @@ std::vector<ProbeBox> parseProbeBoxes(const std::string& json, const std::string
         if (j.at("format") != "dawnforge.proxies") throw InputError(format("{}: not a dawnforge.proxies document", source));
         const auto vec = [](const nlohmann::json& v) { return glm::dvec3(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()); };
         for (const nlohmann::json& b : j.at("boxes")) {
-            ProbeBox box{vec(b.at("centre")), vec(b.at("u")), vec(b.at("w")), vec(b.at("half_size")), false};
+            ProbeBox box{vec(b.at("centre")), vec(b.at("u")), vec(b.at("w")), vec(b.at("half_size")), false, {}};
             const std::string kind = b.at("kind").get<std::string>();
             box.ground = kind == "ground" || kind == "kerb" || kind == "street";
+            const nlohmann::json& colours = b.at("colours");
+            if (colours.size() != 6) throw InputError(format("{}: a box needs 6 face colours", source));
+            for (int f = 0; f < 6; ++f) box.colours[std::size_t(f)] = glm::vec3(vec(colours.at(std::size_t(f))));
             boxes.push_back(box);
         }
     } catch (const nlohmann::json::exception& e) {
@@ -127,6 +130,15 @@ std::vector<PlacedProbe> ProbeField::place(glm::dvec3 camera, glm::dvec3 halfExt
     return out;
 }
 
+ProbeCache::ProbeCache(int capacity) : capacity_(std::max(capacity, 0)) {
+    for (int slot = capacity_ - 1; slot >= 0; --slot) free_.push_back(slot);
+}
+
+int ProbeCache::slotOf(ProbeKey key) const {
+    const auto it = held_.find(key);
+    return it == held_.end() ? -1 : it->second.slot;
+}
+
 std::vector<PlacedProbe> ProbeCache::admit(std::span<const PlacedProbe> wanted, glm::dvec3 camera, int budget) {
     std::vector<PlacedProbe> admitted;
     for (const PlacedProbe& p : wanted) {
@@ -136,14 +148,18 @@ std::vector<PlacedProbe> ProbeCache::admit(std::span<const PlacedProbe> wanted, 
             // The farthest from the camera goes (ties by key, so the same choice every run).
             auto farthest = held_.begin();
             for (auto it = held_.begin(); it != held_.end(); ++it) {
-                const double d = glm::length(it->second - camera), f = glm::length(farthest->second - camera);
+                const double d = glm::length(it->second.position - camera), f = glm::length(farthest->second.position - camera);
                 if (d > f || (d == f && it->first > farthest->first)) farthest = it;
             }
-            if (glm::length(farthest->second - camera) <= glm::length(p.position - camera)) break;  // nothing worse to drop
+            if (glm::length(farthest->second.position - camera) <= glm::length(p.position - camera)) break;  // nothing worse to drop
+            free_.push_back(farthest->second.slot);
             held_.erase(farthest);
         }
-        held_.emplace(p.key, p.position);
-        admitted.push_back(p);
+        PlacedProbe placed = p;
+        placed.slot = free_.back();
+        free_.pop_back();
+        held_.emplace(p.key, Held{p.position, placed.slot});
+        admitted.push_back(placed);
     }
     return admitted;
 }

@@ -3,10 +3,12 @@
 
 #include "flares.hpp"
 #include "gl.hpp"
+#include "probes.hpp"
 #include "scene_gpu.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
 #include <dawnforge/runtime/sky.hpp>
 
 #include <nlohmann/json.hpp>
@@ -121,6 +123,8 @@ struct Renderer::State {
     gl::VertexArray emptyVao;
     FrameGraph graph;
     FlarePass flares;
+    ProbeGpu probes;
+    glm::dvec3 cameraForward{0.0, 0.0, -1.0};
     std::vector<StreetLamp> lamps;
     bool lensFlares = true;
     Lighting lighting;
@@ -132,8 +136,10 @@ struct Renderer::State {
     double exposure = 1.0;
     double loadSeconds = 0.0;
     bool synchronise = false;
+    std::string probesOn = "off";  // the preset drawn
 
     void addPasses();
+    void loadProbes(const SceneFile& scene);
 };
 
 // The frame graph. Each pass binds what it draws into.
@@ -141,6 +147,16 @@ void Renderer::State::addPasses() {
     State& s = *this;
     s.graph.add("shadow", [&s] {
         s.stats.drawCalls += s.scene.drawShadow(s.frame.time);
+    });
+    s.graph.add("probes", [&s] {
+        if (!s.probes.enabled()) return;
+        // The lighting area sits ahead of the player, where what they see is.
+        const auto t0 = Clock::now();
+        s.stats.probes = s.probes.update(s.cameraPos + 7.5 * s.cameraForward, s.options.probeBudget);
+        if (s.stats.probes.captured > 0) {
+            glFinish();
+            s.stats.probes.captureMs = msSince(t0);
+        }
     });
     s.graph.add("opaque", [&s] {
         glBindFramebuffer(GL_FRAMEBUFFER, s.target.hdrFbo.id());
@@ -190,6 +206,25 @@ void Renderer::State::addPasses() {
     });
 }
 
+// The probes read the bake's proxy boxes: a preset other than "off" needs them.
+void Renderer::State::loadProbes(const SceneFile& scene) {
+    State& s = *this;
+    const ProbeSettings& settings = scene.probes;
+    const std::optional<ProbePreset> preset = probePreset(settings.preset);
+    if (!preset) {
+        if (settings.preset != "off") throw InputError(format("unknown probe preset \"{}\" (off, low, mid or high)", settings.preset));
+        s.probes.load({}, nullptr, settings);
+        return;
+    }
+    const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
+    std::error_code ec;
+    if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
+        throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
+                                settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
+    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), &*preset, settings);
+    s.probesOn = settings.preset;
+}
+
 Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) : s_(std::make_unique<State>()) {
     const auto t0 = Clock::now();
     State& s = *s_;
@@ -202,6 +237,7 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
         s.flares.load();
         if (sceneFile.cityDir) s.lamps = readStreetLamps(*sceneFile.cityDir);
     }
+    s.loadProbes(sceneFile);
     s.target = makeTarget(options.size);
     s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
     s.tonemap = gl::makeProgram("fullscreen.vert", "tonemap.frag");
@@ -237,6 +273,8 @@ ViewCamera Renderer::overviewCamera() const {
     return v;
 }
 
+std::vector<CapturedProbe> Renderer::capturedProbes() const { return s_->probes.captured(); }
+
 void Renderer::setSynchronisedPasses(bool on) { s_->synchronise = on; }
 
 void Renderer::resize(glm::ivec2 size) {
@@ -253,6 +291,8 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     cam.forward = glm::normalize(cam.forward);
     if (std::abs(cam.forward.y) > 0.9999) cam.forward = glm::normalize(cam.forward + glm::dvec3(0, 0, -1e-3));
     s.cameraPos = cam.position;
+    s.cameraForward = cam.forward;
+    s.stats.probePreset = s.probesOn;
     const glm::dmat4 proj = glm::perspective(glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
     const glm::dmat4 view = glm::lookAt(cam.position, cam.position + cam.forward, glm::dvec3(0, 1, 0));
     const glm::dmat4 viewProj = proj * view;
@@ -279,6 +319,7 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     glNamedBufferSubData(s.frameUbo.id(), 0, sizeof(block), &block);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, s.frameUbo.id());
     s.scene.bindShared();
+    s.probes.bind();
 
     s.graph.execute(s.synchronise);
     glFinish();
@@ -339,6 +380,16 @@ std::string frameStatsJson(const FrameStats& stats, glm::ivec2 size, const std::
     j["triangles"] = stats.triangles;
     j["ocean_vertices"] = stats.oceanVertices;
     j["buildings"] = {{"lod0", stats.lod0Buildings}, {"lod1", stats.lod1Buildings}, {"culled", stats.culledBuildings}};
+    if (stats.probePreset != "off") {
+        const double probeMs = stats.probes.captureMs;
+        j["probes"] = {{"preset", stats.probePreset},
+                       {"wanted", stats.probes.wanted},
+                       {"captured", stats.probes.captured},
+                       {"injected", stats.probes.injected},
+                       {"held", stats.probes.held},
+                       {"capture_ms", ms(probeMs)},
+                       {"per_second", probeMs > 0.0 ? ms(1000.0 * stats.probes.captured / probeMs) : 0.0}};
+    }
     j["passes"] = std::move(passes);
     return j.dump(2) + "\n";
 }

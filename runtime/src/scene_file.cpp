@@ -149,6 +149,21 @@ WindSettings readWind(const Reader& r, const Json& j) {
     return wind;
 }
 
+ProbeSettings readProbes(const Reader& r, const Json& j) {
+    r.object(j, "probes", {"preset", "face_size", "anti_leak", "multi_bounce"});
+    ProbeSettings probes;
+    if (j.contains("preset")) {
+        const Json& p = j["preset"];
+        if (!p.is_string() || !isProbePreset(p.get<std::string>()))
+            r.fail(format("\"probes.preset\" must be \"off\", \"low\", \"mid\" or \"high\" (got {})", shown(p)));
+        probes.preset = p.get<std::string>();
+    }
+    if (j.contains("face_size")) probes.faceSize = r.integer(j["face_size"], "probes.face_size", 8, 256);
+    if (j.contains("anti_leak")) probes.antiLeak = r.boolean(j["anti_leak"], "probes.anti_leak");
+    if (j.contains("multi_bounce")) probes.multiBounce = r.boolean(j["multi_bounce"], "probes.multi_bounce");
+    return probes;
+}
+
 DestructionInstance readDestruction(const Reader& r, const Json& j, const std::string& path) {
     r.object(j, path, {"vat", "name", "position", "yaw_degrees", "start_time", "replaces"});
     DestructionInstance d;
@@ -201,7 +216,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     }
     if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
     r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras",
-                        "lens_flares"});
+                        "lens_flares", "probes"});
     const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
     if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
     const Json& v = r.required(root, "", "version", "expected \"version\": 1");
@@ -216,6 +231,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     if (root.contains("ocean") && !root["ocean"].is_null()) scene.ocean = readOcean(r, root["ocean"]);
     if (root.contains("wind")) scene.wind = readWind(r, root["wind"]);
     if (root.contains("lens_flares")) scene.lensFlares = r.boolean(root["lens_flares"], "lens_flares");
+    if (root.contains("probes")) scene.probes = readProbes(r, root["probes"]);
     if (root.contains("destruction")) {
         const Json& list = array(r, root["destruction"], "destruction", "{\"vat\": ..., \"name\": ...} objects");
         for (std::size_t i = 0; i < list.size(); ++i)
@@ -289,8 +305,14 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
         j["cameras"].push_back(
             {{"name", c.name}, {"position", vec(c.position)}, {"target", vec(c.target)}, {"fov_degrees", c.fovDegrees}});
     j["lens_flares"] = scene.lensFlares;
+    j["probes"] = {{"preset", scene.probes.preset},
+                   {"face_size", scene.probes.faceSize},
+                   {"anti_leak", scene.probes.antiLeak},
+                   {"multi_bounce", scene.probes.multiBounce}};
     return j.dump(2) + "\n";
 }
+
+bool isProbePreset(std::string_view name) { return name == "off" || name == "low" || name == "mid" || name == "high"; }
 
 const SceneCamera* findCamera(const SceneFile& scene, std::string_view name) {
     for (const SceneCamera& c : scene.cameras)

@@ -150,10 +150,9 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     glNamedFramebufferTexture(shadowFbo_.id(), GL_DEPTH_ATTACHMENT, shadowMap_.id(), 0);
     glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
 
-    if (scene.ocean) {
-        loadOcean(*scene.ocean);
-        if (!bakedOverlook_) renderOverlook();  // only the ocean reads it; a bake brings its own
-    }
+    if (scene.ocean) loadOcean(*scene.ocean);
+    // The ocean's shores and the probes' IN/OUT tags read it; a bake brings its own.
+    if (!bakedOverlook_ && (scene.ocean || scene.probes.preset != "off")) renderOverlook();
     gl::check("loading the scene");
 }
 

@@ -753,7 +753,9 @@ TEST(CliRender, WritesThePictureAndItsPassTimes) {
         passes.push_back(p["name"]);
         EXPECT_GE(p["cpu_ms"].get<double>(), 0.0);
     }
-    EXPECT_EQ(passes, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "flares", "tonemap", "readback"}));
+    EXPECT_EQ(passes,
+              (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "flares", "tonemap", "readback"}));
+    EXPECT_FALSE(stats.contains("probes")) << "probes are off by default";
     EXPECT_EQ(stats["ocean_vertices"], 64 * 48);
     EXPECT_GT(stats["triangles"].get<int>(), 1000);
     const Image image = readPng(f.dir / "out.png");
@@ -825,6 +827,8 @@ TEST(CliRender, BadScenesExit2WithOneLine) {
     expectBadInput({"render", f.scene.string(), "-o", out, "--size", "12x"}, "--size");
     expectBadInput({"render", f.scene.string(), "-o", out, "--camera", "drone"}, "drone");
     expectBadInput({"render", f.scene.string(), "-o", out, "--time-of-day", "25"}, "--time-of-day");
+    expectBadInput({"render", f.scene.string(), "-o", out, "--probes", "ultra"}, "--probes");
+    expectBadInput({"render", f.scene.string(), "-o", out, "--probes", "mid"}, "dawnforge bake");  // the city has no bake
     f.writeScene(R"("city": "city", "ocean": {"heigth": 2})");
     expectBadInput({"render", f.scene.string(), "-o", out}, "ocean.heigth");
     f.writeScene(R"("city": "town")");

@@ -234,8 +234,8 @@ TEST(Render, OceanWithAShore) {
     EXPECT_EQ(stats.oceanVertices, 96u * 80u);
     std::vector<std::string> names;
     for (const PassTime& p : stats.passes) names.push_back(p.name);
-    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "opaque", "destruction", "sky", "ocean", "flares", "tonemap",
-                                                 "readback"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "flares",
+                                                 "tonemap", "readback"}));
 }
 
 TEST(Render, SameSceneGivesTheSamePixels) {

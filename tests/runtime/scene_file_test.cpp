@@ -38,7 +38,8 @@ const std::string kFull = R"({
     { "name": "overview", "position": [0, 40, 120], "target": [0, 0, 0], "fov_degrees": 60 },
     { "name": "street", "position": [5, 1.7, 5] }
   ],
-  "lens_flares": false
+  "lens_flares": false,
+  "probes": { "preset": "high", "face_size": 128, "anti_leak": false, "multi_bounce": false }
 })";
 
 // kFull with `from` replaced by `to` (which must occur).
@@ -66,6 +67,10 @@ TEST(SceneFile, ParsesEveryValue) {
     EXPECT_EQ(s.ocean->shoreDepth, 6.5);
     EXPECT_NEAR(glm::length(s.wind.direction - glm::dvec3(0.6, 0.0, 0.8)), 0.0, 1e-12) << "level and unit";
     EXPECT_EQ(s.wind.speed, 12.5);
+    EXPECT_EQ(s.probes.preset, "high");
+    EXPECT_EQ(s.probes.faceSize, 128);
+    EXPECT_FALSE(s.probes.antiLeak);
+    EXPECT_FALSE(s.probes.multiBounce);
     ASSERT_EQ(s.destruction.size(), 2u);
     EXPECT_EQ(s.destruction[0].vatDir, std::filesystem::path("/scenes/harbour/vat"));
     EXPECT_EQ(s.destruction[0].name, "tower_native");
@@ -103,6 +108,7 @@ TEST(SceneFile, Defaults) {
     EXPECT_TRUE(s.destruction.empty());
     EXPECT_TRUE(s.cameras.empty());
     EXPECT_TRUE(s.lensFlares);
+    EXPECT_EQ(s.probes.preset, "off");
 
     const SceneFile nullOcean = parseSceneJson(R"({"format": "dawnforge.scene", "version": 1, "ocean": null})", "s.json");
     EXPECT_FALSE(nullOcean.ocean);
@@ -152,6 +158,10 @@ TEST(SceneFile, RoundTrips) {
             EXPECT_EQ(back.cameras[i].fovDegrees, s.cameras[i].fovDegrees);
         }
         EXPECT_EQ(back.lensFlares, s.lensFlares);
+        EXPECT_EQ(back.probes.preset, s.probes.preset);
+        EXPECT_EQ(back.probes.faceSize, s.probes.faceSize);
+        EXPECT_EQ(back.probes.antiLeak, s.probes.antiLeak);
+        EXPECT_EQ(back.probes.multiBounce, s.probes.multiBounce);
     }
     // Relative paths where they can be: the scene folder's own city is written as "city".
     EXPECT_TRUE(contains(sceneFileJson(s, "/scenes/harbour"), "\"city\": \"city\""));
@@ -209,6 +219,11 @@ TEST(SceneFile, RejectsBadValuesNamingTheKey) {
         {edited(R"("city": "city")", R"("city": 7)"), "city"},
         {R"({"format": "dawnforge.scene", "version": 1, "cameras": {}})", "\"cameras\" must be an array"},
         {edited(R"("lens_flares": false)", R"("lens_flares": 0)"), "\"lens_flares\" must be true or false"},
+        {edited(R"("preset": "high")", R"("preset": "ultra")"), "\"probes.preset\" must be \"off\", \"low\", \"mid\" or \"high\""},
+        {edited(R"("face_size": 128)", R"("face_size": 512)"), "\"probes.face_size\""},
+        {edited(R"("face_size": 128)", R"("face_size": 4)"), "\"probes.face_size\""},
+        {edited(R"("anti_leak": false)", R"("anti_leak": 1)"), "\"probes.anti_leak\""},
+        {edited(R"("multi_bounce": false)", R"("bounces": 2)"), "unknown key \"probes.bounces\""},
         {edited(R"("lens_flares": false)", R"("lens_flares": "on")"), "\"lens_flares\""},
         {edited(R"("lens_flares": false)", R"("lens_flares": null)"), "\"lens_flares\""},
         {edited(R"("lens_flares": false)", R"("lens_flare": true)"), "unknown key \"lens_flare\""},

@@ -8,6 +8,7 @@
 // key from any camera position, so a probe captured once is reused when the camera returns.
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -40,6 +41,7 @@ struct ProbeBox {
     glm::dvec3 u{1, 0, 0}, w{0, 0, 1};
     glm::dvec3 halfSize{0.0};
     bool ground = false;  // terrain, kerbs, streets: everything under the box is solid too
+    std::array<glm::vec3, 6> colours{};  // linear albedo of the faces +u, -u, +y, -y, +w, -w
 };
 
 // The boxes of a bake's proxies.json (bake/proxies.hpp); "ground", "kerb" and "street" boxes
@@ -53,6 +55,7 @@ glm::ivec3 probeLattice(ProbeKey key);
 struct PlacedProbe {
     ProbeKey key = 0;
     glm::dvec3 position{0.0};
+    int slot = -1;  // its tile in the cache texture, once the cache holds it
 };
 
 // The probe field's geometry: boxes bucketed in a sparse grid of `cell`-metre columns.
@@ -77,19 +80,27 @@ private:
 
 // The probes kept: those of the lighting area first (the player's surroundings, high
 // priority), then the caching area (kept while there is room, perhaps outdated). When full, the
-// probe farthest from the camera goes.
+// probe farthest from the camera goes. Each held probe owns one slot (a tile of the cache
+// texture) in [0, capacity); a slot freed by an evicted probe is given to the next one.
 class ProbeCache {
 public:
-    explicit ProbeCache(int capacity) : capacity_(capacity) {}
+    explicit ProbeCache(int capacity);
     // Makes room for `wanted` (nearest first): returns the ones not yet held, in order, at
-    // most `budget` of them (the frame's capture budget), and holds them.
+    // most `budget` of them (the frame's capture budget), and holds them, with their slots.
     std::vector<PlacedProbe> admit(std::span<const PlacedProbe> wanted, glm::dvec3 camera, int budget);
     bool holds(ProbeKey key) const { return held_.count(key) != 0; }
+    // The slot of a held probe, or -1.
+    int slotOf(ProbeKey key) const;
     std::size_t size() const { return held_.size(); }
 
 private:
+    struct Held {
+        glm::dvec3 position;
+        int slot;
+    };
     int capacity_;
-    std::unordered_map<ProbeKey, glm::dvec3> held_;
+    std::unordered_map<ProbeKey, Held> held_;
+    std::vector<int> free_;  // free slots, the lowest last
 };
 
 }  // namespace dawnforge::runtime

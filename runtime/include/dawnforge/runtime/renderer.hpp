@@ -4,6 +4,8 @@
 // queries:
 //   overlook (once, at load)  top-down orthographic depth of the terrain and buildings (for the ocean)
 //   shadow                    directional shadow map from the sun (LOD1 shells, VAT pieces)
+//   probes                    irradiance probes around the player: placed, captured from the bake's
+//                             proxy boxes, lit, projected and injected (probes.hpp; off by default)
 //   opaque                    buildings (atlas tiling, interior mapping on glass) and ground
 //   destruction               VAT playback of each destruction instance
 //   sky                       sky and sun where nothing was drawn
@@ -14,6 +16,7 @@
 //   readback                  pixels back to the CPU (headless only)
 // A GL context (GlContext) must be current on the calling thread for the whole life.
 #include <dawnforge/exporters/image.hpp>
+#include <dawnforge/runtime/probe_math.hpp>
 #include <dawnforge/runtime/scene_file.hpp>
 
 #include <glm/glm.hpp>
@@ -42,6 +45,22 @@ struct PassTime {
     double cpuMs = 0.0;  // wall time on the CPU around the pass (its real cost when passes are synchronised)
 };
 
+// The probes of one frame.
+struct ProbeStats {
+    int wanted = 0;    // probes the lighting area around the player wants
+    int captured = 0;  // captured this frame
+    int injected = 0;  // of the wanted, those held and captured: what surfaces read
+    int held = 0;      // in the cache
+    double captureMs = 0.0;  // wall time of the capture, finished (glFinish)
+};
+
+// A probe as captured, read back for tests and debug views.
+struct CapturedProbe {
+    glm::dvec3 position{0.0};
+    ShRgb radiance;        // SH L2 of the radiance it saw
+    bool indoors = false;  // its IN tag (a roof above it in the overlook depth)
+};
+
 struct FrameStats {
     std::vector<PassTime> passes;
     double frameMs = 0.0;  // CPU wall time of the whole frame, including the final glFinish
@@ -49,12 +68,15 @@ struct FrameStats {
     std::size_t triangles = 0;
     std::size_t oceanVertices = 0;
     std::size_t lod0Buildings = 0, lod1Buildings = 0, culledBuildings = 0;
+    std::string probePreset = "off";
+    ProbeStats probes;
 };
 
 struct RendererOptions {
     glm::ivec2 size{1280, 720};
     double lodDistance = 90.0;  // buildings nearer than this draw LOD0 (interiors, reveals); farther: LOD1
     int shadowMapSize = 2048;
+    int probeBudget = 0;  // probes captured per frame at most; 0: all the lighting area wants (one frame converges)
 };
 
 class Renderer {
@@ -76,6 +98,8 @@ public:
     exporters::Image readPixels(FrameStats* stats = nullptr);
     // The last frame's linear HDR colour before exposure (row 0 at the top), for tests.
     std::vector<glm::vec3> readHdrPixels();
+    // Every probe the cache holds, as captured (empty with probes off).
+    std::vector<CapturedProbe> capturedProbes() const;
     // Copies the last frame into the default framebuffer (window).
     void present(glm::ivec2 windowSize);
     void resize(glm::ivec2 size);

@@ -23,8 +23,13 @@
 //                    "position": [0, 40, 120],           default [0, 0, 0]
 //                    "target": [0, 0, 0],                default [0, 0, -1]; must differ from position
 //                    "fov_degrees": 50 } ],              vertical field of view, in (1, 179); default 50
-//     "lens_flares": true                                flares of the sun by day and of city.json's street
+//     "lens_flares": true,                               flares of the sun by day and of city.json's street
 //                                                        lamps by night (true or false); default true
+//     "probes": { "preset": "mid",                       irradiance probes: "off", "low", "mid", "high"; default "off";
+//                                                        any other needs the city's bake (CITY/bake/proxies.json)
+//                 "face_size": 64,                       capture pixels per cube face, 8..256; default 64
+//                 "anti_leak": true,                     IN/OUT tags: indoor surfaces read indoor probes only; default true
+//                 "multi_bounce": true }                 probes lit by the probes already captured; default true
 //   }
 //
 // Every key but "format" and "version" is optional; "ocean" absent or null means no ocean.
@@ -60,6 +65,14 @@ struct WindSettings {
     double speed = 4.0;                              // m/s
 };
 
+// Irradiance probes (probes.hpp; issue 14).
+struct ProbeSettings {
+    std::string preset = "off";  // "off", "low", "mid" or "high" (probe_placement.hpp's presets)
+    int faceSize = 64;
+    bool antiLeak = true;
+    bool multiBounce = true;
+};
+
 struct DestructionInstance {
     std::filesystem::path vatDir;
     std::string name;
@@ -80,6 +93,7 @@ struct SceneFile {
     std::vector<DestructionInstance> destruction;
     std::vector<SceneCamera> cameras;              // the first is the default
     bool lensFlares = true;                        // the sun's and the street lamps' lens flares
+    ProbeSettings probes;
 };
 
 // Reads and parses `file`, then checks that the city folder holds city.glb and that each
@@ -94,6 +108,9 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
 // The document for `scene`, with paths relative to `relativeTo` (the folder the scene.json
 // will be written to); parseSceneJson reads it back to the same scene.
 std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& relativeTo);
+
+// Whether `name` is a probe preset: "off", "low", "mid" or "high".
+bool isProbePreset(std::string_view name);
 
 // The camera called `name`, or nullptr.
 const SceneCamera* findCamera(const SceneFile& scene, std::string_view name);

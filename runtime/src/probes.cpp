@@ -1,0 +1,291 @@
+// Irradiance probes on the GPU (probes.hpp).
+#include "probes.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+constexpr int kTile = 5;             // texels per side of a probe's cache tile
+constexpr double kReach = 150.0;     // boxes farther than this from a probe are not captured (m)
+constexpr glm::dvec3 kLightingArea{7.5, 4.0, 7.5};  // half the seed's 15 × 15 × 8 m around the player
+
+// The Probes block of probe_light.glsl (std140).
+struct ProbesBlock {
+    glm::vec4 origin{0.0f};
+    glm::ivec4 dims{0};
+    glm::vec4 cache{1.0f, 1.0f, 0.0f, 0.0f};
+};
+
+// probe_box.glsl's ProxyBox.
+struct GpuBox {
+    glm::vec4 centre, u, w, up;
+    glm::vec4 colours[6];
+};
+
+// probe_box.glsl's faces: forward and up.
+constexpr glm::dvec3 kForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+constexpr glm::dvec3 kUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
+
+std::vector<GpuBox> gpuBoxes(const std::vector<ProbeBox>& boxes) {
+    std::vector<GpuBox> out;
+    out.reserve(boxes.size());
+    for (const ProbeBox& b : boxes) {
+        GpuBox g{glm::vec4(glm::vec3(b.centre), 0.0f), glm::vec4(glm::vec3(b.u), float(b.halfSize.x)),
+                 glm::vec4(glm::vec3(b.w), float(b.halfSize.z)), glm::vec4(0.0f, 1.0f, 0.0f, float(b.halfSize.y)), {}};
+        for (int f = 0; f < 6; ++f) g.colours[f] = glm::vec4(b.colours[std::size_t(f)], 1.0f);
+        out.push_back(g);
+    }
+    return out;
+}
+
+// The injected volume: cache slot + 1 per cell. An integer texture is complete only with
+// NEAREST filters.
+gl::Texture indexTexture(glm::ivec3 dims) {
+    gl::Texture t = gl::makeTexture(GL_TEXTURE_3D);
+    glTextureStorage3D(t.id(), 1, GL_R32I, dims.x, dims.y, dims.z);
+    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return t;
+}
+
+}  // namespace
+
+struct ProbeGpu::State {
+    std::optional<ProbePreset> preset;
+    ProbeSettings settings;
+    std::unique_ptr<ProbeField> field;
+    std::unique_ptr<ProbeCache> cache;
+    std::vector<glm::dvec3> slotPosition;  // per cache slot
+    std::vector<char> slotCaptured;
+    int boxCount = 0, tilesPerRow = 1;
+    gl::Program cull, capture, project;
+    gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
+    gl::Texture cacheTexture, index, gAlbedo, gNormal, gDepth;
+    gl::Framebuffer gBuffer;
+    gl::VertexArray vao;
+    glm::ivec3 indexDims{0};
+    ProbesBlock block;
+
+    void allocate();
+    void inject(glm::ivec3 lo, glm::ivec3 hi);
+    void captureBatch(std::span<const PlacedProbe> probes);
+    void cullBatch(int n);
+    void drawBatch(std::span<const PlacedProbe> probes);
+    void projectBatch(int n);
+};
+
+ProbeGpu::ProbeGpu() : s_(std::make_unique<State>()) {}
+ProbeGpu::~ProbeGpu() = default;
+
+bool ProbeGpu::enabled() const { return s_->preset.has_value(); }
+
+void ProbeGpu::load(std::vector<ProbeBox> boxes, const ProbePreset* preset, const ProbeSettings& settings) {
+    State& s = *s_;
+    s.settings = settings;
+    if (preset) s.preset = *preset;
+    s.ubo = gl::makeBuffer(nullptr, sizeof(ProbesBlock), GL_DYNAMIC_STORAGE_BIT);
+    s.index = indexTexture({1, 1, 1});
+    const GLint none = 0;
+    glTextureSubImage3D(s.index.id(), 0, 0, 0, 0, 1, 1, 1, GL_RED_INTEGER, GL_INT, &none);
+    if (!preset) {
+        s.cacheTexture = gl::makeTexture2D(GL_RGBA16F, kTile, kTile, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+        glNamedBufferSubData(s.ubo.id(), 0, sizeof(ProbesBlock), &s.block);
+        return;
+    }
+    s.boxCount = int(boxes.size());
+    s.boxes = gl::makeBuffer(gpuBoxes(boxes));
+    s.field = std::make_unique<ProbeField>(std::move(boxes));
+    s.cache = std::make_unique<ProbeCache>(preset->cacheProbes());
+    s.tilesPerRow = preset->cacheTexels / kTile;
+    s.slotPosition.assign(std::size_t(preset->cacheProbes()), glm::dvec3(0.0));
+    s.slotCaptured.assign(std::size_t(preset->cacheProbes()), 0);
+    s.allocate();
+}
+
+void ProbeGpu::State::allocate() {
+    const int texels = preset->cacheTexels, size = settings.faceSize;
+    cacheTexture = gl::makeTexture2D(GL_RGBA16F, texels, texels, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(cacheTexture.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    coefficients = gl::makeBuffer(nullptr, std::size_t(preset->cacheProbes()) * 9 * sizeof(glm::vec4));
+    visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(boxCount, 1)) * sizeof(std::uint32_t));
+    commands = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * 4 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
+    batch = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
+    gAlbedo = gl::makeTexture2D(GL_RGBA8, 6 * size, kProbeBatch * size, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    gNormal = gl::makeTexture2D(GL_RGBA32F, 6 * size, kProbeBatch * size, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    gDepth = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, 6 * size, kProbeBatch * size, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    gBuffer = gl::makeFramebuffer();
+    glNamedFramebufferTexture(gBuffer.id(), GL_COLOR_ATTACHMENT0, gAlbedo.id(), 0);
+    glNamedFramebufferTexture(gBuffer.id(), GL_COLOR_ATTACHMENT1, gNormal.id(), 0);
+    glNamedFramebufferTexture(gBuffer.id(), GL_DEPTH_ATTACHMENT, gDepth.id(), 0);
+    const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(gBuffer.id(), 2, buffers);
+    if (glCheckNamedFramebufferStatus(gBuffer.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("the GL driver cannot render the probes' G-buffer (RGBA8 + RGBA32F)");
+    std::vector<float> omega;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) omega.push_back(float(cubeTexelSolidAngle(x, y, size)));
+    solidAngles = gl::makeBuffer(omega);
+    cull = gl::makeComputeProgram("probe_cull.comp");
+    capture = gl::makeProgram("probe_capture.vert", "probe_capture.frag");
+    project = gl::makeComputeProgram("probe_project.comp");
+    vao = gl::makeVertexArray();
+    block.cache = glm::vec4(float(tilesPerRow), 1.0f / float(texels), settings.antiLeak ? 1.0f : 0.0f, 0.0f);
+    block.dims.w = preset->basis == ProbeBasis::Sh ? 2 : 1;
+}
+
+void ProbeGpu::bind() const {
+    glBindBufferBase(GL_UNIFORM_BUFFER, 3, s_->ubo.id());
+    glBindTextureUnit(11, s_->cacheTexture.id());
+    glBindTextureUnit(12, s_->index.id());
+}
+
+ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget) {
+    State& s = *s_;
+    ProbeStats counts;
+    if (!s.preset) return counts;
+    const double spacing = s.preset->spacing;
+    const std::vector<PlacedProbe> wanted = s.field->place(focus, kLightingArea, spacing);
+    counts.wanted = int(wanted.size());
+    const std::vector<PlacedProbe> admitted = s.cache->admit(wanted, focus, budget > 0 ? budget : int(wanted.size()));
+    for (const PlacedProbe& p : admitted) s.slotCaptured[std::size_t(p.slot)] = 0;  // a reused slot shows nothing until captured
+    const glm::ivec3 lo(glm::ceil((focus - kLightingArea) / spacing - 0.5)), hi(glm::floor((focus + kLightingArea) / spacing - 0.5));
+    bind();
+    s.inject(lo, hi);  // the probes captured before: the second bounce reads them
+    for (std::size_t first = 0; first < admitted.size(); first += kProbeBatch)
+        s.captureBatch(std::span(admitted).subspan(first, std::min<std::size_t>(kProbeBatch, admitted.size() - first)));
+    s.inject(lo, hi);
+    counts.captured = int(admitted.size());
+    for (const PlacedProbe& p : wanted) counts.injected += s.cache->holds(p.key) ? 1 : 0;
+    counts.held = int(s.cache->size());
+    return counts;
+}
+
+// The lighting area's cells [lo, hi] → cache slot + 1 of the held, captured probe there (0: none).
+void ProbeGpu::State::inject(glm::ivec3 lo, glm::ivec3 hi) {
+    const glm::ivec3 dims = glm::max(hi - lo + 1, glm::ivec3(1));
+    std::vector<GLint> cells(std::size_t(dims.x) * std::size_t(dims.y) * std::size_t(dims.z), 0);
+    for (int k = 0; k < dims.z; ++k)
+        for (int j = 0; j < dims.y; ++j)
+            for (int i = 0; i < dims.x; ++i) {
+                const int slot = cache->slotOf(probeKey(lo + glm::ivec3(i, j, k)));
+                if (slot >= 0 && slotCaptured[std::size_t(slot)])
+                    cells[(std::size_t(k) * std::size_t(dims.y) + std::size_t(j)) * std::size_t(dims.x) + std::size_t(i)] = slot + 1;
+            }
+    if (dims != indexDims) {
+        index = indexTexture(dims);
+        indexDims = dims;
+    }
+    glTextureSubImage3D(index.id(), 0, 0, 0, 0, dims.x, dims.y, dims.z, GL_RED_INTEGER, GL_INT, cells.data());
+    block.origin = glm::vec4(glm::vec3(preset->spacing * (glm::dvec3(lo) + 0.5)), float(preset->spacing));
+    block.dims = glm::ivec4(dims, block.dims.w);
+    glNamedBufferSubData(ubo.id(), 0, sizeof(ProbesBlock), &block);
+    glBindTextureUnit(12, index.id());
+}
+
+void ProbeGpu::State::captureBatch(std::span<const PlacedProbe> probes) {
+    const int n = int(probes.size());
+    std::vector<glm::vec4> positions;
+    for (const PlacedProbe& p : probes) positions.emplace_back(glm::vec3(p.position), float(p.slot));
+    glNamedBufferSubData(batch.id(), 0, GLsizeiptr(positions.size() * sizeof(glm::vec4)), positions.data());
+    cullBatch(n);
+    drawBatch(probes);
+    projectBatch(n);
+    for (const PlacedProbe& p : probes) {
+        slotPosition[std::size_t(p.slot)] = p.position;
+        slotCaptured[std::size_t(p.slot)] = 1;
+    }
+}
+
+// Which boxes each face of the batch's n probes sees: probe_cull.comp fills the face lists and
+// the instance counts of the indirect draws.
+void ProbeGpu::State::cullBatch(int n) {
+    std::vector<std::uint32_t> reset;
+    for (int f = 0; f < n * 6; ++f) reset.insert(reset.end(), {36u, 0u, 0u, 0u});
+    glNamedBufferSubData(commands.id(), 0, GLsizeiptr(reset.size() * sizeof(std::uint32_t)), reset.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, boxes.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, visible.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, commands.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, batch.id());
+    glUseProgram(cull.id());
+    glUniform1ui(0, GLuint(boxCount));
+    glUniform1f(1, float(kReach));
+    glDispatchCompute(GLuint((boxCount + 63) / 64), GLuint(n), 1);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+// One instanced indirect draw per cube face into the G-buffer: probe b's face f at (f, b).
+void ProbeGpu::State::drawBatch(std::span<const PlacedProbe> probes) {
+    const int size = settings.faceSize;
+    glBindFramebuffer(GL_FRAMEBUFFER, gBuffer.id());
+    // Only the batch's rows: a short batch (a frame's few new probes) clears little.
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 6 * size, int(probes.size()) * size);
+    const float clear[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(gBuffer.id(), GL_COLOR, 0, clear);
+    glClearNamedFramebufferfv(gBuffer.id(), GL_COLOR, 1, clear);
+    glClearNamedFramebufferfi(gBuffer.id(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glUseProgram(capture.id());
+    glBindVertexArray(vao.id());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands.id());
+    const glm::dmat4 proj = glm::perspective(glm::radians(90.0), 1.0, 0.05, 2.0 * kReach);
+    for (std::size_t b = 0; b < probes.size(); ++b) {
+        const glm::dvec3 p = probes[b].position;
+        glUniform3fv(2, 1, glm::value_ptr(glm::vec3(p)));
+        for (int f = 0; f < 6; ++f) {
+            const int face = int(b) * 6 + f;
+            const glm::mat4 viewProj(proj * glm::lookAt(p, p + kForward[f], kUp[f]));
+            glViewport(f * size, int(b) * size, size, size);
+            glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(viewProj));
+            glUniform1ui(1, GLuint(face * boxCount));
+            glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(face) * 16u));
+        }
+    }
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+}
+
+// probe_project.comp: lights the G-buffer and writes each probe's tile and coefficients.
+void ProbeGpu::State::projectBatch(int n) {
+    glUseProgram(project.id());
+    glBindTextureUnit(13, gAlbedo.id());
+    glBindTextureUnit(14, gNormal.id());
+    glBindImageTexture(0, cacheTexture.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, coefficients.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, solidAngles.id());
+    glUniform1i(0, settings.faceSize);
+    glUniform1i(1, settings.multiBounce ? 1 : 0);
+    glDispatchCompute(GLuint(n), 1, 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+std::vector<CapturedProbe> ProbeGpu::captured() const {
+    const State& s = *s_;
+    std::vector<CapturedProbe> out;
+    if (!s.preset) return out;
+    std::vector<glm::vec4> c(s.slotCaptured.size() * 9);
+    glGetNamedBufferSubData(s.coefficients.id(), 0, GLsizeiptr(c.size() * sizeof(glm::vec4)), c.data());
+    for (std::size_t slot = 0; slot < s.slotCaptured.size(); ++slot) {
+        if (!s.slotCaptured[slot]) continue;
+        CapturedProbe p;
+        p.position = s.slotPosition[slot];
+        for (int i = 0; i < 9; ++i) p.radiance.c[std::size_t(i)] = glm::dvec3(glm::vec3(c[slot * 9 + std::size_t(i)]));
+        p.indoors = c[slot * 9].w > 1.5f;
+        out.push_back(p);
+    }
+    return out;
+}
+
+}  // namespace dawnforge::runtime

@@ -1,0 +1,49 @@
+#pragma once
+// Real-time irradiance probes on the GPU (issue 14), private to the renderer. Every frame:
+//   place    lattice probes of the preset's spacing in the lighting area around the player
+//            (probe_placement.hpp: near geometry, outside the proxy boxes, nearest first);
+//   admit    the ones the cache does not hold yet, at most the frame's budget (the farthest held
+//            probe makes room when the cache is full);
+//   capture  in batches of kProbeBatch: a compute pass culls the proxy boxes per cube face into
+//            indirect draws, one instanced draw per face renders the flat-coloured boxes into a
+//            small G-buffer (albedo, normal, distance; the clear is the sky), and a compute pass
+//            lights it (sun with the shadow map, sky, the probes already there for the second
+//            bounce) and projects it into SH L2, storing the probe's 5 × 5 cache tile;
+//   inject   the lighting area's cells → cache tiles, a small 3D index texture that every lit
+//            surface reads (probe_light.glsl).
+#include "gl.hpp"
+
+#include <dawnforge/runtime/probe_math.hpp>
+#include <dawnforge/runtime/probe_placement.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/runtime/scene_file.hpp>
+
+#include <glm/glm.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace dawnforge::runtime {
+
+inline constexpr int kProbeBatch = 16;
+
+class ProbeGpu {
+public:
+    ProbeGpu();
+    ~ProbeGpu();
+    // `preset` null: probes off (empty resources stay bound so that shaders read "none").
+    void load(std::vector<ProbeBox> boxes, const ProbePreset* preset, const ProbeSettings& settings);
+    bool enabled() const;
+    // Binds the cache, the index and the Probes block for the shaders (units 11, 12; UBO 3).
+    void bind() const;
+    // Places, captures (at most `budget` probes; 0: all the area wants) and injects around
+    // `focus`. The Frame block, the shadow map and the overlook depth must be bound.
+    ProbeStats update(glm::dvec3 focus, int budget);
+    std::vector<CapturedProbe> captured() const;
+
+private:
+    struct State;
+    std::unique_ptr<State> s_;
+};
+
+}  // namespace dawnforge::runtime
