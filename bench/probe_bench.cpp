@@ -34,6 +34,7 @@ int main(int argc, char** argv) try {
     }
     const auto context = GlContext::headless();
     Renderer renderer(scene, RendererOptions{});
+    renderer.setSynchronisedPasses(true);  // the shadow pass is finished before the capture's clock starts
     FrameSettings frame;
     frame.camera = Renderer::cameraOf(*start);
     frame.timeOfDay = scene.timeOfDay;

@@ -94,6 +94,9 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     frame.time = options.frame ? double(*options.frame) / scene.fps : scene.time;
     frame.timeOfDay = options.timeOfDay ? std::fmod(*options.timeOfDay, 24.0) : scene.timeOfDay;
 
+    // With --stats, the first frame's passes are finished one by one too, so that the probes'
+    // capture time holds only the capture (llvmpipe runs the shadow pass at the next flush).
+    renderer.setSynchronisedPasses(options.stats);
     runtime::FrameStats stats = renderer.render(frame);
     exporters::Image image = renderer.readPixels(&stats);
     const runtime::ProbeStats firstProbes = stats.probes;  // the frame that captured them

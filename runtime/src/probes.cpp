@@ -12,7 +12,7 @@ namespace dawnforge::runtime {
 namespace {
 
 constexpr int kTile = 5;             // texels per side of a probe's cache tile
-constexpr double kReach = 150.0;     // boxes farther than this from a probe are not captured (m)
+constexpr double kReach = 80.0;      // boxes farther than this from a probe are not captured (m)
 constexpr glm::dvec3 kLightingArea{7.5, 4.0, 7.5};  // half the seed's 15 × 15 × 8 m around the player
 
 // The Probes block of probe_light.glsl (std140).
