@@ -34,17 +34,28 @@ vec3 sunDisk(vec3 dir) {
 
 layout(binding = 7) uniform sampler2DShadow shadowMap;
 
-float sunShadow(vec3 worldPos, vec3 normal) {
+// The shadow map's coordinates of a point lifted 0.15 m along its normal; z > 1: outside the map.
+vec3 shadowCoord(vec3 worldPos, vec3 normal) {
     vec4 p = frame.lightViewProj * vec4(worldPos + normal * 0.15, 1.0);
     vec3 q = p.xyz / p.w * 0.5 + 0.5;
-    if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))) || q.z > 1.0) return 1.0;
+    bool outside = any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))) || q.z > 1.0;
+    return outside ? vec3(0.5, 0.5, 2.0) : vec3(q.xy, q.z - frame.sunColor.w);
+}
+
+// 4 taps, each a bilinear comparison (2 × 2 PCF).
+float sunShadow(vec3 worldPos, vec3 normal) {
+    vec3 q = shadowCoord(worldPos, normal);
+    if (q.z > 1.5) return 1.0;
     vec2 texel = 1.0 / vec2(textureSize(shadowMap, 0));
     float sum = 0.0;
-    for (int i = 0; i < 4; ++i) {
-        vec2 o = (vec2(i & 1, i >> 1) - 0.5) * texel;
-        sum += texture(shadowMap, vec3(q.xy + o, q.z - frame.sunColor.w));
-    }
+    for (int i = 0; i < 4; ++i) sum += texture(shadowMap, vec3(q.xy + (vec2(i & 1, i >> 1) - 0.5) * texel, q.z));
     return sum * 0.25;
+}
+
+// One bilinear comparison: what the probes' 64-pixel faces need.
+float sunShadowCoarse(vec3 worldPos, vec3 normal) {
+    vec3 q = shadowCoord(worldPos, normal);
+    return q.z > 1.5 ? 1.0 : texture(shadowMap, q);
 }
 
 #include "probe_light.glsl"
@@ -55,7 +66,7 @@ float sunShadow(vec3 worldPos, vec3 normal) {
 vec3 ambientLight(vec3 worldPos, vec3 n) {
     vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
     vec4 probe = probeIrradiance(worldPos, n);
-    return mix(hemi, probe.rgb / kPi, clamp(probe.w * 8.0, 0.0, 1.0));
+    return mix(hemi, probe.rgb / kPi, clamp(probe.w * 4.0, 0.0, 1.0));
 }
 
 // Diffuse light on a surface: the sun with its shadow plus the ambient light.

@@ -12,6 +12,7 @@ layout(std140, binding = 3) uniform Probes {
 } probes;
 layout(binding = 11) uniform sampler2D probeCache;
 layout(binding = 12) uniform isampler3D probeIndex;
+layout(binding = 15) uniform sampler2D probeMoments;  // per probe 6 texels (faces): mean, mean² distance
 layout(binding = 6) uniform sampler2D overlookDepthTexture;
 
 // The height of the highest surface over xz (terrain or roof) from the overlook depth;
@@ -40,8 +41,19 @@ vec4 probeTileIrradiance(int slot, vec3 n) {
     return vec4(textureLod(probeCache, (vec2(tile) + t) * probes.cache.y, 0.0).rgb, tag);
 }
 
+// How likely the probe of cache `slot` at `probe` sees p (DDGI's Chebyshev test on the depth
+// moments of the cube face that looks towards p), cubed as DDGI does to sharpen it.
+float probeVisibility(int slot, vec3 probe, vec3 p) {
+    vec3 d = p - probe, a = abs(d);
+    int face = a.x >= a.y && a.x >= a.z ? (d.x >= 0.0 ? 0 : 1) : a.y >= a.z ? (d.y >= 0.0 ? 2 : 3) : (d.z >= 0.0 ? 4 : 5);
+    int perRow = int(probes.cache.x);
+    vec2 m = texelFetch(probeMoments, ivec2((slot % perRow) * 6 + face, slot / perRow), 0).rg;
+    float v = chebyshevVisibility(length(d), m.x, m.y);
+    return v * v * v;
+}
+
 // The probes' irradiance at p (normal n), blended trilinearly over the 8 surrounding probes;
-// w: the weight found (0: no probe around p).
+// w: how much of p's cell the probes cover (0: no probe around p).
 vec4 probeIrradiance(vec3 p, vec3 n) {
     if (probes.dims.w == 0) return vec4(0.0);
     vec3 g = (p - probes.origin.xyz) / probes.origin.w;
@@ -50,7 +62,7 @@ vec4 probeIrradiance(vec3 p, vec3 n) {
     bool antiLeak = probes.cache.z > 0.5;
     float inside = antiLeak && underRoof(p + n * 0.3) ? 2.0 : 1.0;
     vec3 sum = vec3(0.0);
-    float weights = 0.0;
+    float weights = 0.0, coverage = 0.0;
     for (int i = 0; i < 8; ++i) {
         ivec3 o = ivec3(i & 1, (i >> 1) & 1, i >> 2);
         ivec3 c = base + o;
@@ -61,13 +73,17 @@ vec4 probeIrradiance(vec3 p, vec3 n) {
         if (antiLeak && abs(e.a - inside) > 0.5) continue;
         vec3 t = mix(1.0 - f, f, vec3(o));
         // A probe behind the surface counts less (it may see the other side of a thin wall).
-        vec3 toProbe = probes.origin.xyz + vec3(c) * probes.origin.w - p;
-        float facing = 0.5 * (1.0 + dot(normalize(toProbe + n * 1e-3), n));
-        float w = t.x * t.y * t.z * (facing * facing + 0.05);
+        vec3 probe = probes.origin.xyz + vec3(c) * probes.origin.w;
+        float facing = 0.5 * (1.0 + dot(normalize(probe - p + n * 1e-3), n));
+        float w = t.x * t.y * t.z;
+        coverage += w;
+        w *= facing * facing + 0.05;
+        // With anti-leak, a probe that cannot see p counts (almost) nothing.
+        if (antiLeak) w *= max(probeVisibility(entry - 1, probe, p + n * 0.1), 1e-3);
         sum += w * e.rgb;
         weights += w;
     }
-    return vec4(weights > 0.0 ? sum / weights : vec3(0.0), weights);
+    return vec4(weights > 0.0 ? sum / weights : vec3(0.0), coverage);
 }
 
 // The second bounce's light at a captured surface: the nearest probe of the same tag, / π

@@ -3,7 +3,8 @@
 // work group per probe: every texel's radiance (the sky where nothing was hit; else the
 // face's albedo × (sun with the shadow map + ambient), the ambient from the probes already
 // captured where there are some: the second bounce, from the nearest one) is projected into SH L2, weighted by the
-// texel's solid angle, and reduced in shared memory. The probe's cache tile gets the 9
+// texel's solid angle, and reduced in shared memory; so are the mean and mean square of the
+// distances each cube face saw (the depth moments of the Chebyshev visibility test). The probe's cache tile gets the 9
 // coefficients (SH) or the 5 × 5 octahedral irradiance map (ambient cube), with its IN/OUT tag.
 #include "common.glsl"
 #include "probe_box.glsl"
@@ -11,18 +12,20 @@ layout(local_size_x = 128) in;
 layout(binding = 13) uniform sampler2D gAlbedo;
 layout(binding = 14) uniform sampler2D gNormalDistance;
 layout(rgba16f, binding = 0) uniform writeonly image2D cacheImage;
+layout(rg32f, binding = 1) uniform writeonly image2D momentImage;  // per probe 6 texels: mean, mean² distance per face
 layout(std430, binding = 3) readonly buffer Batch { vec4 batch[]; };  // xyz: position; w: cache slot
 layout(std430, binding = 4) writeonly buffer Coefficients { vec4 coefficients[]; };  // 9 per slot; w: tag
 layout(std430, binding = 5) readonly buffer SolidAngles { float solidAngle[]; };  // per texel of a face
 layout(location = 0) uniform int faceSize;
 layout(location = 1) uniform int multiBounce;
+layout(location = 2) uniform float skyDistance;  // what a sky texel counts as in the depth moments
 shared vec3 partial[9][128];
 
 vec3 texelRadiance(vec3 probe, vec3 dir, vec4 albedo, vec4 normalDistance) {
     if (albedo.a < 0.5) return skyColor(dir);
     vec3 hit = probe + dir * normalDistance.w, n = normalDistance.xyz;
     float ndl = max(dot(n, frame.sunDir.xyz), 0.0);
-    float shadow = ndl > 0.0 ? sunShadow(hit, n) : 0.0;
+    float shadow = ndl > 0.0 ? sunShadowCoarse(hit, n) : 0.0;
     // Sky AO, coarsely: a surface under a roof (IN) sees no sky of its own, only what the
     // probes already captured bring it.
     vec3 hemi = underRoof(hit + n * 0.3) ? vec3(0.0)
@@ -32,36 +35,51 @@ vec3 texelRadiance(vec3 probe, vec3 dir, vec4 albedo, vec4 normalDistance) {
     return albedo.rgb * (frame.sunColor.rgb * ndl * shadow + ambient);
 }
 
+// Sums the work group's values[0 .. count) into partial[i][0] (a tree over the 128 lanes).
+void reduce(vec3 values[9], int count) {
+    uint lane = gl_LocalInvocationID.x;
+    for (int i = 0; i < count; ++i) partial[i][lane] = values[i];
+    barrier();
+    for (uint stride = 64u; stride > 0u; stride >>= 1u) {
+        if (lane < stride)
+            for (int i = 0; i < count; ++i) partial[i][lane] += partial[i][lane + stride];
+        barrier();
+    }
+}
+
 void main() {
     uint probe = gl_WorkGroupID.x, lane = gl_LocalInvocationID.x;
     vec3 p = batch[probe].xyz;
     int slot = int(batch[probe].w), faceTexels = faceSize * faceSize;
-    vec3 acc[9];
-    for (int i = 0; i < 9; ++i) acc[i] = vec3(0.0);
+    vec3 acc[9], moments[9];  // moments: 6 faces used
+    for (int i = 0; i < 9; ++i) acc[i] = moments[i] = vec3(0.0);
     for (int t = int(lane); t < 6 * faceTexels; t += 128) {
         int f = t / faceTexels, x = t % faceSize, y = (t % faceTexels) / faceSize;
         ivec2 g = ivec2(f * faceSize + x, int(probe) * faceSize + y);
         vec2 s = (vec2(x, y) + 0.5) / float(faceSize) * 2.0 - 1.0;
         vec3 dir = normalize(kFaceForward[f] + s.x * cross(kFaceForward[f], kFaceUp[f]) + s.y * kFaceUp[f]);
-        vec3 radiance = texelRadiance(p, dir, texelFetch(gAlbedo, g, 0), texelFetch(gNormalDistance, g, 0));
+        vec4 albedo = texelFetch(gAlbedo, g, 0), normalDistance = texelFetch(gNormalDistance, g, 0);
+        vec3 radiance = texelRadiance(p, dir, albedo, normalDistance);
         float y9[9];
         shBasis(dir, y9);
         float dOmega = solidAngle[y * faceSize + x];
         for (int i = 0; i < 9; ++i) acc[i] += radiance * (y9[i] * dOmega);
+        float distance = albedo.a < 0.5 ? skyDistance : normalDistance.w;
+        moments[f] += vec3(distance, distance * distance, 1.0) * dOmega;
     }
-    for (int i = 0; i < 9; ++i) partial[i][lane] = acc[i];
-    barrier();
-    for (uint stride = 64u; stride > 0u; stride >>= 1u) {
-        if (lane < stride)
-            for (int i = 0; i < 9; ++i) partial[i][lane] += partial[i][lane + stride];
-        barrier();
+    vec3 c[9];
+    reduce(acc, 9);
+    for (int i = 0; i < 9; ++i) c[i] = partial[i][0];
+    barrier();  // every lane has read the SH before the moments reuse the shared memory
+    reduce(moments, 6);
+    int perRow = int(probes.cache.x);
+    if (lane < 6u) {
+        vec3 m = partial[lane][0];
+        imageStore(momentImage, ivec2((slot % perRow) * 6 + int(lane), slot / perRow), vec4(m.x / m.z, m.y / m.z, 0.0, 0.0));
     }
     if (lane >= 25u) return;
-    vec3 c[9];
-    for (int i = 0; i < 9; ++i) c[i] = partial[i][0];
     float tag = underRoof(p) ? 2.0 : 1.0;
     if (lane < 9u) coefficients[slot * 9 + int(lane)] = vec4(c[lane], tag);
-    int perRow = int(probes.cache.x);
     ivec2 texel = ivec2(slot % perRow, slot / perRow) * 5 + ivec2(int(lane) % 5, int(lane) / 5);
     vec3 value;
     if (probes.dims.w == 2) {

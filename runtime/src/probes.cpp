@@ -66,7 +66,7 @@ struct ProbeGpu::State {
     int boxCount = 0, tilesPerRow = 1;
     gl::Program cull, capture, project;
     gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
-    gl::Texture cacheTexture, index, gAlbedo, gNormal, gDepth;
+    gl::Texture cacheTexture, moments, index, gAlbedo, gNormal, gDepth;
     gl::Framebuffer gBuffer;
     gl::VertexArray vao;
     glm::ivec3 indexDims{0};
@@ -95,6 +95,7 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, const ProbePreset* preset, cons
     glTextureSubImage3D(s.index.id(), 0, 0, 0, 0, 1, 1, 1, GL_RED_INTEGER, GL_INT, &none);
     if (!preset) {
         s.cacheTexture = gl::makeTexture2D(GL_RGBA16F, kTile, kTile, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+        s.moments = gl::makeTexture2D(GL_RG32F, 6, 1, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
         glNamedBufferSubData(s.ubo.id(), 0, sizeof(ProbesBlock), &s.block);
         return;
     }
@@ -113,6 +114,8 @@ void ProbeGpu::State::allocate() {
     cacheTexture = gl::makeTexture2D(GL_RGBA16F, texels, texels, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
     const float zero[4] = {0, 0, 0, 0};
     glClearTexImage(cacheTexture.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    moments = gl::makeTexture2D(GL_RG32F, 6 * tilesPerRow, tilesPerRow, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    glClearTexImage(moments.id(), 0, GL_RG, GL_FLOAT, zero);
     coefficients = gl::makeBuffer(nullptr, std::size_t(preset->cacheProbes()) * 9 * sizeof(glm::vec4));
     visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(boxCount, 1)) * sizeof(std::uint32_t));
     commands = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * 4 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
@@ -143,6 +146,7 @@ void ProbeGpu::State::allocate() {
 void ProbeGpu::bind() const {
     glBindBufferBase(GL_UNIFORM_BUFFER, 3, s_->ubo.id());
     glBindTextureUnit(11, s_->cacheTexture.id());
+    glBindTextureUnit(15, s_->moments.id());
     glBindTextureUnit(12, s_->index.id());
 }
 
@@ -263,10 +267,12 @@ void ProbeGpu::State::projectBatch(int n) {
     glBindTextureUnit(13, gAlbedo.id());
     glBindTextureUnit(14, gNormal.id());
     glBindImageTexture(0, cacheTexture.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glBindImageTexture(1, moments.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, coefficients.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, solidAngles.id());
     glUniform1i(0, settings.faceSize);
     glUniform1i(1, settings.multiBounce ? 1 : 0);
+    glUniform1f(2, float(2.0 * kReach));
     glDispatchCompute(GLuint(n), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
