@@ -57,10 +57,20 @@ std::unique_ptr<runtime::GlContext> headlessContext() {
     }
 }
 
-void addProbesOption(CLI::App& cmd, std::optional<std::string>& probes) {
-    cmd.add_option("--probes", probes,
+struct ProbeOptions {
+    std::optional<std::string> preset;
+    bool show = false;
+    void apply(runtime::SceneFile& scene) const {
+        if (preset) scene.probes.preset = *preset;
+        if (show) scene.probes.show = true;
+    }
+};
+
+void addProbesOptions(CLI::App& cmd, ProbeOptions& probes) {
+    cmd.add_option("--probes", probes.preset,
                    "Irradiance probes: off, low, mid or high (default: the scene's \"probes\"; any but off needs the city's bake)")
         ->check(CLI::IsMember({"off", "low", "mid", "high"}));
+    cmd.add_flag("--show-probes", probes.show, "Draw each probe as a small sphere lit by it (the probes' debug view)");
 }
 
 struct RenderOptions {
@@ -71,7 +81,7 @@ struct RenderOptions {
     std::optional<int> frame;          // time = frame / fps; default: the scene's time
     bool stats = false;
     int repeat = 5;                    // --stats: timed frames after one warm-up; the median is reported
-    std::optional<std::string> probes; // overrides the scene's probe preset
+    ProbeOptions probes;               // override the scene's
     runtime::RendererOptions renderer;
 };
 
@@ -84,7 +94,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     if (options.timeOfDay && !(*options.timeOfDay >= 0.0 && *options.timeOfDay <= 24.0))
         throw InputError(format("--time-of-day: expected hours from 0 to 24 (got {})", *options.timeOfDay));
     runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
-    if (options.probes) scene.probes.preset = *options.probes;
+    options.probes.apply(scene);
     if (options.output.has_parent_path()) ensureOutputDirectory(options.output.parent_path());
 
     const auto context = headlessContext();
@@ -132,14 +142,14 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
 struct ViewOptions {
     std::filesystem::path sceneFile;
     std::string camera;
-    std::optional<std::string> probes;
+    ProbeOptions probes;
     int frames = 0;  // > 0: close after this many frames (smoke tests, timing the window path)
     runtime::RendererOptions renderer;
 };
 
 int runView(const ViewOptions& options, const CommonOptions& common) {
     runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
-    if (options.probes) scene.probes.preset = *options.probes;
+    options.probes.apply(scene);
     const auto window =
         runtime::GlContext::window(options.renderer.size, "dawnforge view: " + options.sceneFile.string());
     runtime::RendererOptions ro = options.renderer;
@@ -204,7 +214,7 @@ Command addRender(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--time-of-day", o->timeOfDay, "Hours, 0 to 24 (default: the scene's)");
     cmd->add_option("--frame", o->frame, "Frame number: scene time = frame / fps (default: the scene's time)")
         ->check(CLI::NonNegativeNumber);
-    addProbesOption(*cmd, o->probes);
+    addProbesOptions(*cmd, o->probes);
     cmd->add_flag("--stats", o->stats, "Print per-pass GPU and CPU times as JSON on stdout");
     cmd->add_option("--repeat", o->repeat, "With --stats: timed frames after a warm-up (median reported)")
         ->check(CLI::Range(1, 1000))->capture_default_str();
@@ -219,7 +229,7 @@ Command addView(CLI::App& app, CommonOptions& common) {
     cmd->add_option("SCENE", o->sceneFile, "Scene file (scene.json)")->required();
     addImageSizeOption(*cmd, o->renderer.size, "Window size WxH");
     cmd->add_option("--camera", o->camera, "Named camera to start from");
-    addProbesOption(*cmd, o->probes);
+    addProbesOptions(*cmd, o->probes);
     cmd->add_option("--frames", o->frames, "Close after this many frames (0: when the window is closed)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     return {cmd, [o, &common] { return runView(*o, common); }};

@@ -1,6 +1,8 @@
 // Irradiance probes on the GPU (probes.hpp).
 #include "probes.hpp"
 
+#include <dawnforge/core/primitives.hpp>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
@@ -66,6 +68,9 @@ struct ProbeGpu::State {
     int boxCount = 0, tilesPerRow = 1;
     gl::Program cull, capture, project;
     gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
+    gl::Program sphere;
+    gl::Buffer sphereVertices, shown;
+    int sphereVertexCount = 0, shownCount = 0;
     gl::Texture cacheTexture, moments, index, gAlbedo, gNormal, gDepth;
     gl::Framebuffer gBuffer;
     gl::VertexArray vao;
@@ -135,6 +140,15 @@ void ProbeGpu::State::allocate() {
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) omega.push_back(float(cubeTexelSolidAngle(x, y, size)));
     solidAngles = gl::makeBuffer(omega);
+    if (settings.show) {
+        const Mesh ball = makeIcosphere(1.0f, 2);
+        std::vector<glm::vec4> corners;
+        for (std::uint32_t i : ball.indices) corners.emplace_back(ball.positions[i], 0.0f);
+        sphereVertices = gl::makeBuffer(corners);
+        sphereVertexCount = int(corners.size());
+        shown = gl::makeBuffer(nullptr, std::size_t(preset->cacheProbes()) * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
+        sphere = gl::makeProgram("probe_sphere.vert", "probe_sphere.frag");
+    }
     cull = gl::makeComputeProgram("probe_cull.comp");
     capture = gl::makeProgram("probe_capture.vert", "probe_capture.frag");
     project = gl::makeComputeProgram("probe_project.comp");
@@ -166,7 +180,13 @@ ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget) {
         s.captureBatch(std::span(admitted).subspan(first, std::min<std::size_t>(kProbeBatch, admitted.size() - first)));
     s.inject(lo, hi);
     counts.captured = int(admitted.size());
-    for (const PlacedProbe& p : wanted) counts.injected += s.cache->holds(p.key) ? 1 : 0;
+    std::vector<glm::vec4> shown;
+    for (const PlacedProbe& p : wanted)
+        if (const int slot = s.cache->slotOf(p.key); slot >= 0) shown.emplace_back(glm::vec3(p.position), float(slot));
+    counts.injected = int(shown.size());
+    if (s.settings.show && !shown.empty())
+        glNamedBufferSubData(s.shown.id(), 0, GLsizeiptr(shown.size() * sizeof(glm::vec4)), shown.data());
+    s.shownCount = int(shown.size());
     counts.held = int(s.cache->size());
     return counts;
 }
@@ -275,6 +295,18 @@ void ProbeGpu::State::projectBatch(int n) {
     glUniform1f(2, float(2.0 * kReach));
     glDispatchCompute(GLuint(n), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+std::size_t ProbeGpu::drawSpheres() const {
+    const State& s = *s_;
+    if (!s.preset || !s.settings.show || s.shownCount == 0) return 0;
+    glUseProgram(s.sphere.id());
+    glUniform1f(0, float(0.12 * s.preset->spacing));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, s.sphereVertices.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, s.shown.id());
+    glBindVertexArray(s.vao.id());
+    glDrawArraysInstanced(GL_TRIANGLES, 0, s.sphereVertexCount, s.shownCount);
+    return 1;
 }
 
 std::vector<CapturedProbe> ProbeGpu::captured() const {

@@ -40,6 +40,9 @@ public:
     // `focus`. The Frame block, the shadow map and the overlook depth must be bound.
     ProbeStats update(glm::dvec3 focus, int budget);
     std::vector<CapturedProbe> captured() const;
+    // The debug view: a sphere at each injected probe, shaded by its irradiance, into the bound
+    // framebuffer with its depth test. Returns the draw calls (0 or 1).
+    std::size_t drawSpheres() const;
 
 private:
     struct State;

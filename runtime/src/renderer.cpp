@@ -170,6 +170,7 @@ void Renderer::State::addPasses() {
         glDepthFunc(GL_LESS);
         glDisable(GL_CULL_FACE);  // city meshes are closed but their winding is not relied on
         s.stats.drawCalls += s.scene.drawOpaque(s.cameraPos, s.viewProj, s.options.lodDistance, s.frame.time, s.stats);
+        s.stats.drawCalls += s.probes.drawSpheres();
     });
     s.graph.add("destruction", [&s] { s.stats.drawCalls += s.scene.drawDestruction(s.frame.time, s.stats); });
     s.graph.add("sky", [&s] {

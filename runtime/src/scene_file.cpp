@@ -150,7 +150,7 @@ WindSettings readWind(const Reader& r, const Json& j) {
 }
 
 ProbeSettings readProbes(const Reader& r, const Json& j) {
-    r.object(j, "probes", {"preset", "face_size", "anti_leak", "multi_bounce"});
+    r.object(j, "probes", {"preset", "face_size", "anti_leak", "multi_bounce", "show"});
     ProbeSettings probes;
     if (j.contains("preset")) {
         const Json& p = j["preset"];
@@ -161,6 +161,7 @@ ProbeSettings readProbes(const Reader& r, const Json& j) {
     if (j.contains("face_size")) probes.faceSize = r.integer(j["face_size"], "probes.face_size", 8, 256);
     if (j.contains("anti_leak")) probes.antiLeak = r.boolean(j["anti_leak"], "probes.anti_leak");
     if (j.contains("multi_bounce")) probes.multiBounce = r.boolean(j["multi_bounce"], "probes.multi_bounce");
+    if (j.contains("show")) probes.show = r.boolean(j["show"], "probes.show");
     return probes;
 }
 
@@ -308,7 +309,8 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
     j["probes"] = {{"preset", scene.probes.preset},
                    {"face_size", scene.probes.faceSize},
                    {"anti_leak", scene.probes.antiLeak},
-                   {"multi_bounce", scene.probes.multiBounce}};
+                   {"multi_bounce", scene.probes.multiBounce},
+                   {"show", scene.probes.show}};
     return j.dump(2) + "\n";
 }
 

@@ -769,15 +769,25 @@ TEST(CliRender, WritesThePictureAndItsPassTimes) {
 
 TEST(CliRender, SameSceneSameBytesOnAnyThreadCount) {
     RenderFixture f;
-    std::vector<std::vector<unsigned char>> images;
-    for (const char* threads : {"1", "3"}) {
-        setenv("LP_NUM_THREADS", threads, 1);
-        const RunResult r = f.render({"--camera", "low"});
-        ASSERT_EQ(r.exitCode, 0) << r.err;
-        images.push_back(test::readBytes(f.dir / "out.png"));
-    }
+    // The probes read the bake's proxies: a ground slab and one block are enough for them.
+    std::filesystem::create_directories(f.dir / "city" / "bake");
+    test::writeText(f.dir / "city" / "bake" / "proxies.json", R"({"format": "dawnforge.proxies", "version": 1, "boxes": [
+        {"name": "g", "part": 0, "kind": "ground", "centre": [80, -0.05, -80], "u": [1, 0, 0], "w": [0, 0, 1],
+         "half_size": [120, 0.05, 120], "colours": [[0.3, 0.4, 0.2], [0.3, 0.4, 0.2], [0.3, 0.4, 0.2], [0.3, 0.4, 0.2], [0.3, 0.4, 0.2], [0.3, 0.4, 0.2]]},
+        {"name": "b", "part": 0, "kind": "building", "centre": [50, 6, -35], "u": [1, 0, 0], "w": [0, 0, 1],
+         "half_size": [4, 6, 4], "colours": [[0.8, 0.5, 0.3], [0.8, 0.5, 0.3], [0.2, 0.2, 0.2], [0.8, 0.5, 0.3], [0.8, 0.5, 0.3], [0.8, 0.5, 0.3]]}]})");
+    std::map<std::string, std::vector<unsigned char>> images;
+    for (const std::string probes : {"off", "mid"})
+        for (const char* threads : {"1", "3"}) {
+            setenv("LP_NUM_THREADS", threads, 1);
+            const RunResult r = f.render({"--camera", "low", "--probes", probes});
+            ASSERT_EQ(r.exitCode, 0) << r.err;
+            images[probes + threads] = test::readBytes(f.dir / "out.png");
+        }
     unsetenv("LP_NUM_THREADS");
-    EXPECT_EQ(images[0], images[1]);
+    EXPECT_EQ(images["off1"], images["off3"]);
+    EXPECT_EQ(images["mid1"], images["mid3"]);
+    EXPECT_NE(images["off1"], images["mid1"]) << "the probes light the unbaked city";
 }
 
 TEST(CliRender, TimeOfDayCameraAndFrameChangeThePicture) {

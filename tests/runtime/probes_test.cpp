@@ -1,6 +1,7 @@
 // Irradiance probes on the GPU (runtime/src/probes.hpp), on llvmpipe: what the probes capture
 // from the proxy boxes against a Monte Carlo reference traced with Embree on the CPU from the
 // same boxes, sun and sky; and the anti-leak tags in a sealed room beside a sunlit street.
+#include "golden.hpp"
 #include "render_support.hpp"
 #include "test_support.hpp"
 
@@ -23,6 +24,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <string>
+#include <utility>
 
 using namespace dawnforge;
 using namespace dawnforge::runtime;
@@ -40,9 +43,11 @@ struct TestBox {
 
 // CITY/city.glb with every box as a closed mesh (a building casts its shadow in the shadow map),
 // and CITY/bake/proxies.json with the same boxes: all the probes need from a bake.
-std::filesystem::path writeBoxCity(const std::filesystem::path& dir, const std::vector<TestBox>& boxes) {
+std::filesystem::path writeBoxCity(const std::filesystem::path& dir, const std::vector<TestBox>& boxes,
+                                   std::vector<Mesh> unproxied = {}) {
     std::filesystem::create_directories(dir / "bake");
     Scene scene;
+    for (Mesh& m : unproxied) scene.addMeshNode(std::move(m));
     Mesh buildings;
     buildings.name = "building_00000_lod0";
     nlohmann::json list = nlohmann::json::array();
@@ -310,4 +315,64 @@ TEST(Probes, DepthMomentsKeepTheSunnySideOffTheShadedSide) {
     std::printf("shaded foot of a wall: mean luminance %.5f with the depth moments, %.5f without\n", on, off);
     // Measured 0.0495 and 0.0602: the sunny side's light through the wall was 18 % of it.
     EXPECT_LT(on, 0.92 * off);
+}
+
+// The debug view: one more draw, spheres where the probes are, each lit by its probe's light.
+TEST(Probes, DebugViewDrawsTheProbesAsLitSpheres) {
+    test::llvmpipeContext();
+    TempDir dir;
+    const std::filesystem::path city = writeBoxCity(dir / "city", streetBoxes());
+    const FrameSettings frame = test::lookingAt({-1, 3.0, 8}, {-1, 1.0, -4}, 15.0);
+    const auto draw = [&](bool show, FrameStats& stats, std::vector<CapturedProbe>* probes) {
+        SceneFile scene = probeScene(city, "mid", true, true);
+        scene.probes.show = show;
+        Renderer renderer(scene, smallTarget());
+        stats = renderer.render(frame);
+        if (probes) *probes = renderer.capturedProbes();
+        if (std::getenv("DAWNFORGE_KEEP_PICTURES") && show) exporters::writePng(renderer.readPixels(), "/tmp/dawnforge_spheres.png");
+        return renderer.readHdrPixels();
+    };
+    FrameStats plain, shown;
+    std::vector<CapturedProbe> probes;
+    const std::vector<glm::vec3> without = draw(false, plain, nullptr), with = draw(true, shown, &probes);
+    EXPECT_EQ(shown.drawCalls, plain.drawCalls + 1);
+    ASSERT_FALSE(probes.empty());
+    // Sphere pixels: those that changed. Their light is a probe's, 0.8 E(n) / π for some n
+    // facing the camera: compare their mean with the probes' mean for level normals.
+    double changed = 0.0, sphereLight = 0.0;
+    for (std::size_t i = 0; i < with.size(); ++i)
+        if (glm::length(with[i] - without[i]) > 1e-4f) {
+            changed += 1.0;
+            sphereLight += with[i].g;
+        }
+    EXPECT_GT(changed, 0.005 * double(with.size()));
+    double probeLight = 0.0;
+    for (const CapturedProbe& p : probes)
+        for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)})
+            probeLight += 0.8 * shIrradiance(p.radiance, n).g / glm::pi<double>() / (4.0 * double(probes.size()));
+    EXPECT_NEAR(sphereLight / changed / probeLight, 1.0, 0.5) << sphereLight / changed << " " << probeLight;
+}
+
+// Golden pictures (golden.hpp's tolerances: llvmpipe is deterministic, so any change is a change
+// of the capture or the shading): the street of the reference test with rubble lying in it,
+// which no proxy stands for (debris is lit by the probes alone), by day and by night.
+TEST(Probes, StreetWithDebrisByDayAndByNight) {
+    test::llvmpipeContext();
+    TempDir dir;
+    std::vector<Mesh> rubble;
+    for (int i = 0; i < 7; ++i) {
+        const float x = -6.0f + 1.9f * float(i), z = -3.0f - 0.7f * float(i % 3), s = 0.3f + 0.1f * float(i % 4);
+        rubble.push_back(makeBox({x - s, 0, z - s}, {x + s, 1.4f * s, z + s}, std::uint8_t(2 + i % 3)));
+        rubble.back().name = "debris_" + std::to_string(i);
+    }
+    const std::filesystem::path city = writeBoxCity(dir / "city", streetBoxes(), std::move(rubble));
+    RendererOptions options = smallTarget();
+    options.size = {160, 120};
+    for (const auto& [name, hours] : {std::pair<const char*, double>{"probes_street_day", 15.0}, {"probes_street_night", 22.0}}) {
+        Renderer renderer(probeScene(city, "mid", true, true), options);
+        renderer.render(test::lookingAt({-1, 2.2, 5}, {-1, 0.5, -6}, hours, 60.0));
+        const exporters::Image image = renderer.readPixels();
+        if (std::getenv("DAWNFORGE_KEEP_PICTURES")) exporters::writePng(image, std::string("/tmp/dawnforge_") + name + ".png");
+        test::expectGolden(name, image);
+    }
 }

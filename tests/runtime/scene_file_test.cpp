@@ -39,7 +39,7 @@ const std::string kFull = R"({
     { "name": "street", "position": [5, 1.7, 5] }
   ],
   "lens_flares": false,
-  "probes": { "preset": "high", "face_size": 128, "anti_leak": false, "multi_bounce": false }
+  "probes": { "preset": "high", "face_size": 128, "anti_leak": false, "multi_bounce": false, "show": true }
 })";
 
 // kFull with `from` replaced by `to` (which must occur).
@@ -71,6 +71,7 @@ TEST(SceneFile, ParsesEveryValue) {
     EXPECT_EQ(s.probes.faceSize, 128);
     EXPECT_FALSE(s.probes.antiLeak);
     EXPECT_FALSE(s.probes.multiBounce);
+    EXPECT_TRUE(s.probes.show);
     ASSERT_EQ(s.destruction.size(), 2u);
     EXPECT_EQ(s.destruction[0].vatDir, std::filesystem::path("/scenes/harbour/vat"));
     EXPECT_EQ(s.destruction[0].name, "tower_native");
@@ -162,6 +163,7 @@ TEST(SceneFile, RoundTrips) {
         EXPECT_EQ(back.probes.faceSize, s.probes.faceSize);
         EXPECT_EQ(back.probes.antiLeak, s.probes.antiLeak);
         EXPECT_EQ(back.probes.multiBounce, s.probes.multiBounce);
+        EXPECT_EQ(back.probes.show, s.probes.show);
     }
     // Relative paths where they can be: the scene folder's own city is written as "city".
     EXPECT_TRUE(contains(sceneFileJson(s, "/scenes/harbour"), "\"city\": \"city\""));

@@ -29,7 +29,8 @@
 //                                                        any other needs the city's bake (CITY/bake/proxies.json)
 //                 "face_size": 64,                       capture pixels per cube face, 8..256; default 64
 //                 "anti_leak": true,                     IN/OUT tags: indoor surfaces read indoor probes only; default true
-//                 "multi_bounce": true }                 probes lit by the probes already captured; default true
+//                 "multi_bounce": true,                  probes lit by the probes already captured; default true
+//                 "show": false }                        the debug view: a sphere at each probe, lit by it; default false
 //   }
 //
 // Every key but "format" and "version" is optional; "ocean" absent or null means no ocean.
@@ -71,6 +72,7 @@ struct ProbeSettings {
     int faceSize = 64;
     bool antiLeak = true;
     bool multiBounce = true;
+    bool show = false;  // the debug view
 };
 
 struct DestructionInstance {
