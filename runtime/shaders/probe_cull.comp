@@ -10,6 +10,7 @@ layout(std430, binding = 2) buffer Commands { uint commands[]; };
 layout(std430, binding = 3) readonly buffer Batch { vec4 batch[]; };  // xyz: probe position
 layout(location = 0) uniform uint boxCount;
 layout(location = 1) uniform float reach;
+layout(location = 2) uniform uint listSize;  // each face's list holds up to this many boxes
 
 void main() {
     uint box = gl_GlobalInvocationID.x, probe = gl_WorkGroupID.y;
@@ -26,6 +27,6 @@ void main() {
         if (!seen) continue;
         uint face = probe * 6u + uint(f);
         uint slot = atomicAdd(commands[face * 4u + 1u], 1u);
-        visible[face * boxCount + slot] = box;
+        visible[face * listSize + slot] = box;
     }
 }

@@ -47,7 +47,11 @@ std::vector<ProbeBox> parseProbeBoxes(const std::string& json, const std::string
         if (j.at("format") != "dawnforge.proxies") throw InputError(format("{}: not a dawnforge.proxies document", source));
         const auto vec = [](const nlohmann::json& v) { return glm::dvec3(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()); };
         for (const nlohmann::json& b : j.at("boxes")) {
-            ProbeBox box{vec(b.at("centre")), vec(b.at("u")), vec(b.at("w")), vec(b.at("half_size")), false, {}};
+            ProbeBox box;
+            box.centre = vec(b.at("centre"));
+            box.u = vec(b.at("u"));
+            box.w = vec(b.at("w"));
+            box.halfSize = vec(b.at("half_size"));
             const std::string kind = b.at("kind").get<std::string>();
             box.ground = kind == "ground" || kind == "kerb" || kind == "street";
             const nlohmann::json& colours = b.at("colours");

@@ -34,12 +34,12 @@ struct GpuBox {
 constexpr glm::dvec3 kForward[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 constexpr glm::dvec3 kUp[6] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
 
-std::vector<GpuBox> gpuBoxes(const std::vector<ProbeBox>& boxes) {
+std::vector<GpuBox> gpuBoxes(std::span<const ProbeBox> boxes) {
     std::vector<GpuBox> out;
     out.reserve(boxes.size());
     for (const ProbeBox& b : boxes) {
         GpuBox g{glm::vec4(glm::vec3(b.centre), 0.0f), glm::vec4(glm::vec3(b.u), float(b.halfSize.x)),
-                 glm::vec4(glm::vec3(b.w), float(b.halfSize.z)), glm::vec4(0.0f, 1.0f, 0.0f, float(b.halfSize.y)), {}};
+                 glm::vec4(glm::vec3(b.w), float(b.halfSize.z)), glm::vec4(glm::vec3(b.up), float(b.halfSize.y)), {}};
         for (int f = 0; f < 6; ++f) g.colours[f] = glm::vec4(b.colours[std::size_t(f)], 1.0f);
         out.push_back(g);
     }
@@ -65,7 +65,7 @@ struct ProbeGpu::State {
     std::unique_ptr<ProbeCache> cache;
     std::vector<glm::dvec3> slotPosition;  // per cache slot
     std::vector<char> slotCaptured;
-    int boxCount = 0, tilesPerRow = 1;
+    int staticBoxes = 0, boxCount = 0, boxCapacity = 0, tilesPerRow = 1;
     gl::Program cull, capture, project;
     gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
     gl::Program sphere;
@@ -90,7 +90,7 @@ ProbeGpu::~ProbeGpu() = default;
 
 bool ProbeGpu::enabled() const { return s_->preset.has_value(); }
 
-void ProbeGpu::load(std::vector<ProbeBox> boxes, const ProbePreset* preset, const ProbeSettings& settings) {
+void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePreset* preset, const ProbeSettings& settings) {
     State& s = *s_;
     s.settings = settings;
     if (preset) s.preset = *preset;
@@ -104,8 +104,10 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, const ProbePreset* preset, cons
         glNamedBufferSubData(s.ubo.id(), 0, sizeof(ProbesBlock), &s.block);
         return;
     }
-    s.boxCount = int(boxes.size());
-    s.boxes = gl::makeBuffer(gpuBoxes(boxes));
+    s.staticBoxes = s.boxCount = int(boxes.size());
+    s.boxCapacity = s.staticBoxes + std::max(movingBoxes, 0);
+    s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
     s.field = std::make_unique<ProbeField>(std::move(boxes));
     s.cache = std::make_unique<ProbeCache>(preset->cacheProbes());
     s.tilesPerRow = preset->cacheTexels / kTile;
@@ -122,7 +124,7 @@ void ProbeGpu::State::allocate() {
     moments = gl::makeTexture2D(GL_RG32F, 6 * tilesPerRow, tilesPerRow, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
     glClearTexImage(moments.id(), 0, GL_RG, GL_FLOAT, zero);
     coefficients = gl::makeBuffer(nullptr, std::size_t(preset->cacheProbes()) * 9 * sizeof(glm::vec4));
-    visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(boxCount, 1)) * sizeof(std::uint32_t));
+    visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(boxCapacity, 1)) * sizeof(std::uint32_t));
     commands = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * 4 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
     batch = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
     gAlbedo = gl::makeTexture2D(GL_RGBA8, 6 * size, kProbeBatch * size, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
@@ -164,10 +166,16 @@ void ProbeGpu::bind() const {
     glBindTextureUnit(12, s_->index.id());
 }
 
-ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget) {
+ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget, std::span<const ProbeBox> moving) {
     State& s = *s_;
     ProbeStats counts;
     if (!s.preset) return counts;
+    // The moving boxes (destruction pieces) follow the proxies in the box buffer.
+    const std::size_t count = std::min<std::size_t>(moving.size(), std::size_t(s.boxCapacity - s.staticBoxes));
+    if (count > 0)
+        glNamedBufferSubData(s.boxes.id(), GLintptr(std::size_t(s.staticBoxes) * sizeof(GpuBox)), GLsizeiptr(count * sizeof(GpuBox)),
+                             gpuBoxes(moving.first(count)).data());
+    s.boxCount = s.staticBoxes + int(count);
     const double spacing = s.preset->spacing;
     const std::vector<PlacedProbe> wanted = s.field->place(focus, kLightingArea, spacing);
     counts.wanted = int(wanted.size());
@@ -240,6 +248,7 @@ void ProbeGpu::State::cullBatch(int n) {
     glUseProgram(cull.id());
     glUniform1ui(0, GLuint(boxCount));
     glUniform1f(1, float(kReach));
+    glUniform1ui(2, GLuint(boxCapacity));
     glDispatchCompute(GLuint((boxCount + 63) / 64), GLuint(n), 1);
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 }
@@ -273,7 +282,7 @@ void ProbeGpu::State::drawBatch(std::span<const PlacedProbe> probes) {
             const glm::mat4 viewProj(proj * glm::lookAt(p, p + kForward[f], kUp[f]));
             glViewport(f * size, int(b) * size, size, size);
             glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(viewProj));
-            glUniform1ui(1, GLuint(face * boxCount));
+            glUniform1ui(1, GLuint(face * boxCapacity));
             glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(face) * 16u));
         }
     }

@@ -21,6 +21,7 @@
 #include <glm/glm.hpp>
 
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace dawnforge::runtime {
@@ -31,14 +32,17 @@ class ProbeGpu {
 public:
     ProbeGpu();
     ~ProbeGpu();
-    // `preset` null: probes off (empty resources stay bound so that shaders read "none").
-    void load(std::vector<ProbeBox> boxes, const ProbePreset* preset, const ProbeSettings& settings);
+    // `boxes`: the bake's proxies. `movingBoxes`: the most boxes update() will be given (the
+    // destruction pieces). `preset` null: probes off (empty resources stay bound so that
+    // shaders read "none").
+    void load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePreset* preset, const ProbeSettings& settings);
     bool enabled() const;
     // Binds the cache, the index and the Probes block for the shaders (units 11, 12; UBO 3).
     void bind() const;
     // Places, captures (at most `budget` probes; 0: all the area wants) and injects around
-    // `focus`. The Frame block, the shadow map and the overlook depth must be bound.
-    ProbeStats update(glm::dvec3 focus, int budget);
+    // `focus`; the capture sees the proxies and the `moving` boxes. The Frame block, the
+    // shadow map and the overlook depth must be bound.
+    ProbeStats update(glm::dvec3 focus, int budget, std::span<const ProbeBox> moving);
     std::vector<CapturedProbe> captured() const;
     // The debug view: a sphere at each injected probe, shaded by its irradiance, into the bound
     // framebuffer with its depth test. Returns the draw calls (0 or 1).

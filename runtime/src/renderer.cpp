@@ -152,7 +152,8 @@ void Renderer::State::addPasses() {
         if (!s.probes.enabled()) return;
         // The lighting area sits ahead of the player, where what they see is.
         const auto t0 = Clock::now();
-        s.stats.probes = s.probes.update(s.cameraPos + 7.5 * s.cameraForward, s.options.probeBudget);
+        const std::vector<ProbeBox> pieces = s.scene.pieceBoxes(s.frame.time);
+        s.stats.probes = s.probes.update(s.cameraPos + 7.5 * s.cameraForward, s.options.probeBudget, pieces);
         if (s.stats.probes.captured > 0) {
             glFinish();
             s.stats.probes.captureMs = msSince(t0);
@@ -214,7 +215,7 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
     const std::optional<ProbePreset> preset = probePreset(settings.preset);
     if (!preset) {
         if (settings.preset != "off") throw InputError(format("unknown probe preset \"{}\" (off, low, mid or high)", settings.preset));
-        s.probes.load({}, nullptr, settings);
+        s.probes.load({}, 0, nullptr, settings);
         return;
     }
     const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
@@ -222,7 +223,7 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
     if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
         throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
                                 settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
-    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), &*preset, settings);
+    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), &*preset, settings);
     s.probesOn = settings.preset;
 }
 

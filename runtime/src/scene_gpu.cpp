@@ -319,9 +319,23 @@ void SceneGpu::loadVat(const DestructionInstance& d) {
     glVertexArrayAttribBinding(vao, 8, 0);
     glVertexArrayVertexBuffer(vao, 0, v.vertices.id(), 0, sizeof(VatVertex));
     glVertexArrayElementBuffer(vao, v.indices.id());
+    v.boxes = VatPieceBoxes(file, v.model, v.startTime);
     // Bounds over the whole animation, placed.
     growPlacedBox(file.boundsMin, file.boundsMax, v.model, boundsMin_, boundsMax_);
     vats_.push_back(std::move(v));
+}
+
+std::vector<ProbeBox> SceneGpu::pieceBoxes(double time) const {
+    std::vector<ProbeBox> out;
+    for (const Vat& v : vats_)
+        if (!v.replacing || time >= v.startTime) v.boxes.append(time, out);  // as drawVats draws them
+    return out;
+}
+
+std::size_t SceneGpu::pieceCount() const {
+    std::size_t n = 0;
+    for (const Vat& v : vats_) n += v.boxes.pieces();
+    return n;
 }
 
 void SceneGpu::loadOcean(const OceanSettings& settings) {

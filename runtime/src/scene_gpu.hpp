@@ -3,6 +3,7 @@
 // vertex/index buffer with per-building instance data, the atlas and interior textures,
 // the destruction VATs, the ocean grid, the shadow map and the overlook depth.
 #include "gl.hpp"
+#include "piece_boxes.hpp"
 #include "static_vertex.hpp"
 #include "trees.hpp"
 
@@ -48,6 +49,10 @@ public:
     bool baked() const { return baked_; }
     void bindShared();
 
+    // The destruction pieces drawn at scene time `time`, as boxes for the probes' capture.
+    std::vector<ProbeBox> pieceBoxes(double time) const;
+    std::size_t pieceCount() const;
+
     // Each returns the number of draw calls it made.
     std::size_t drawShadow(double time);
     std::size_t drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time, FrameStats& stats);
@@ -78,6 +83,7 @@ private:
         std::uint32_t building = 0xfffeu;  // the instance id the shaders see (the building's when replacing)
         glm::mat4 model{1.0f};
         glm::uvec4 blocks{0u};
+        VatPieceBoxes boxes;
     };
     struct Command {
         std::uint32_t count, instanceCount, firstIndex;

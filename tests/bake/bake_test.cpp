@@ -248,7 +248,9 @@ TEST_F(BakeCity, ProxiesCoverEveryBuildingWithColoursInRange) {
             }
         for (int k = 0; k < 3; ++k) EXPECT_GT(b["half_size"][k].get<double>(), 0.0);
         // Hills and the sea floor come in chunks: no ground box reaches from a valley to a hilltop.
-        if (b["kind"] == "ground") EXPECT_LE(b["half_size"][1].get<double>(), 3.5) << b["name"] << " " << b["part"];
+        if (b["kind"] == "ground") {
+            EXPECT_LE(b["half_size"][1].get<double>(), 3.5) << b["name"] << " " << b["part"];
+        }
     }
     EXPECT_EQ(buildings.size(), report_.buildings);
     EXPECT_GT(kinds["ground"], 0);

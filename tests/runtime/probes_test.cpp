@@ -11,6 +11,7 @@
 #include <dawnforge/core/scene.hpp>
 #include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/exporters/image.hpp>
+#include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/runtime/probe_math.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/sky.hpp>
@@ -65,7 +66,7 @@ std::filesystem::path writeBoxCity(const std::filesystem::path& dir, const std::
         list.push_back({{"name", "box"}, {"part", 0}, {"kind", b.kind}, {"centre", {c.x, c.y, c.z}}, {"u", {1, 0, 0}},
                         {"w", {0, 0, 1}}, {"half_size", {h.x, h.y, h.z}}, {"colours", colours}});
     }
-    scene.addMeshNode(std::move(buildings));
+    if (!buildings.positions.empty()) scene.addMeshNode(std::move(buildings));
     exporters::writeGlb(scene, dir / "city.glb");
     test::writeText(dir / "city.json", R"({"counts": {"buildings": 1}})");
     test::writeText(dir / "bake" / "proxies.json",
@@ -375,4 +376,44 @@ TEST(Probes, StreetWithDebrisByDayAndByNight) {
         if (std::getenv("DAWNFORGE_KEEP_PICTURES")) exporters::writePng(image, std::string("/tmp/dawnforge_") + name + ".png");
         test::expectGolden(name, image);
     }
+}
+
+// Destruction pieces are captured as boxes where the VAT has them at the frame's time: a 3 m
+// block that starts beside the probes and is 40 m away at the last frame.
+TEST(Probes, MovingPiecesAreCapturedWhereTheyAre) {
+    test::llvmpipeContext();
+    TempDir dir;
+    const std::filesystem::path city = writeBoxCity(dir / "city", {streetBoxes()[0]});
+    {
+        const std::vector<Mesh> pieces{makeBox({-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}, 4)};
+        std::vector<float> transforms;
+        for (int k = 0; k < 10; ++k) transforms.insert(transforms.end(), {40.0f * float(k * k) / 81.0f, 1.5f, -4.0f, 0, 0, 0, 1});
+        exporters::VatSettings settings;
+        settings.name = "block";
+        exporters::writeVat(exporters::encodeVat({pieces, transforms, 10, 30.0}, settings), settings, dir / "vat");
+    }
+    const FrameSettings frame = test::lookingAt({0, 1.7, 4}, {0, 1.5, -4}, 15.0);
+    // Mean irradiance, over the six axes, of the probes within 4 m of the block's first place.
+    const auto nearLight = [&](bool withVat, double time) {
+        SceneFile scene = probeScene(city, "mid", true, false);
+        if (withVat) scene.destruction.push_back({dir / "vat", "block", glm::dvec3(0.0), 0.0, 0.0, std::nullopt});
+        Renderer renderer(scene, smallTarget());
+        FrameSettings f = frame;
+        f.time = time;
+        renderer.render(f);
+        double sum = 0.0;
+        int n = 0;
+        for (const CapturedProbe& p : renderer.capturedProbes())
+            if (glm::length(p.position - glm::dvec3(0, 1.5, -4)) < 4.0)
+                for (const glm::dvec3 a : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)}) {
+                    sum += shIrradiance(p.radiance, a).g;
+                    ++n;
+                }
+        EXPECT_GT(n, 20);
+        return sum / std::max(n, 1);
+    };
+    const double empty = nearLight(false, 0.0), start = nearLight(true, 0.0), end = nearLight(true, 9.0 / 30.0);
+    std::printf("probes near the block: %.4f without it, %.4f with it at frame 0, %.4f at frame 9 (gone)\n", empty, start, end);
+    EXPECT_LT(start, 0.9 * empty) << "the block hides the sky from the probes around it";
+    EXPECT_NEAR(end / empty, 1.0, 0.01) << "the block has left";
 }

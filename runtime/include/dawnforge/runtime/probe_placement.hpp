@@ -35,10 +35,12 @@ struct ProbePreset {
 std::optional<ProbePreset> probePreset(std::string_view name);
 
 // An oriented box of the scene (the bake's flat-coloured proxies): centre, unit horizontal
-// axes u and w, half sizes along u, +Y and w.
+// axes u and w, half sizes along u, +Y and w. Destruction pieces (capture only, never placed
+// around) may turn any way: their `up` is then not +Y.
 struct ProbeBox {
     glm::dvec3 centre{0.0};
     glm::dvec3 u{1, 0, 0}, w{0, 0, 1};
+    glm::dvec3 up{0, 1, 0};
     glm::dvec3 halfSize{0.0};
     bool ground = false;  // terrain, kerbs, streets: everything under the box is solid too
     std::array<glm::vec3, 6> colours{};  // linear albedo of the faces +u, -u, +y, -y, +w, -w
