@@ -7,7 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 
 namespace dawnforge::runtime {
 
@@ -52,6 +54,9 @@ std::vector<ProbeBox> parseProbeBoxes(const std::string& json, const std::string
             box.u = vec(b.at("u"));
             box.w = vec(b.at("w"));
             box.halfSize = vec(b.at("half_size"));
+            const std::string name = b.at("name").get<std::string>();
+            if (name.starts_with("building_") && name.size() > 9 && std::isdigit(static_cast<unsigned char>(name[9])))
+                box.building = std::atoi(name.c_str() + 9);
             const std::string kind = b.at("kind").get<std::string>();
             box.ground = kind == "ground" || kind == "kerb" || kind == "street";
             const nlohmann::json& colours = b.at("colours");

@@ -66,6 +66,8 @@ struct ProbeGpu::State {
     std::vector<glm::dvec3> slotPosition;  // per cache slot
     std::vector<char> slotCaptured;
     int staticBoxes = 0, boxCount = 0, boxCapacity = 0, tilesPerRow = 1;
+    std::vector<ProbeBox> proxies;  // as loaded
+    std::vector<int> gone;          // buildings whose proxies are hidden (sorted)
     gl::Program cull, capture, project;
     gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
     gl::Program sphere;
@@ -108,6 +110,7 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePre
     s.boxCapacity = s.staticBoxes + std::max(movingBoxes, 0);
     s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
+    s.proxies = boxes;
     s.field = std::make_unique<ProbeField>(std::move(boxes));
     s.cache = std::make_unique<ProbeCache>(preset->cacheProbes());
     s.tilesPerRow = preset->cacheTexels / kTile;
@@ -304,6 +307,19 @@ void ProbeGpu::State::projectBatch(int n) {
     glUniform1f(2, float(2.0 * kReach));
     glDispatchCompute(GLuint(n), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+void ProbeGpu::setGoneBuildings(std::span<const int> gone) {
+    State& s = *s_;
+    std::vector<int> sorted(gone.begin(), gone.end());
+    std::sort(sorted.begin(), sorted.end());
+    if (!s.preset || sorted == s.gone) return;
+    s.gone = std::move(sorted);
+    // A hidden box keeps its place with no size: its triangles are degenerate.
+    std::vector<ProbeBox> boxes = s.proxies;
+    for (ProbeBox& b : boxes)
+        if (b.building >= 0 && std::binary_search(s.gone.begin(), s.gone.end(), b.building)) b.halfSize = glm::dvec3(0.0);
+    glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
 }
 
 std::size_t ProbeGpu::drawSpheres() const {

@@ -43,6 +43,9 @@ public:
     // `focus`; the capture sees the proxies and the `moving` boxes. The Frame block, the
     // shadow map and the overlook depth must be bound.
     ProbeStats update(glm::dvec3 focus, int budget, std::span<const ProbeBox> moving);
+    // Buildings gone from the scene (replaced by their destruction): their proxies are not
+    // captured from now on; the others are again.
+    void setGoneBuildings(std::span<const int> gone);
     std::vector<CapturedProbe> captured() const;
     // The debug view: a sphere at each injected probe, shaded by its irradiance, into the bound
     // framebuffer with its depth test. Returns the draw calls (0 or 1).

@@ -152,6 +152,7 @@ void Renderer::State::addPasses() {
         if (!s.probes.enabled()) return;
         // The lighting area sits ahead of the player, where what they see is.
         const auto t0 = Clock::now();
+        s.probes.setGoneBuildings(s.scene.goneBuildings(s.frame.time));
         const std::vector<ProbeBox> pieces = s.scene.pieceBoxes(s.frame.time);
         s.stats.probes = s.probes.update(s.cameraPos + 7.5 * s.cameraForward, s.options.probeBudget, pieces);
         if (s.stats.probes.captured > 0) {

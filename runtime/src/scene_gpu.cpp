@@ -332,6 +332,13 @@ std::vector<ProbeBox> SceneGpu::pieceBoxes(double time) const {
     return out;
 }
 
+std::vector<int> SceneGpu::goneBuildings(double time) const {
+    std::vector<int> gone;
+    for (const Vat& v : vats_)
+        if (v.replacing && time >= v.startTime) gone.push_back(int(v.building));
+    return gone;
+}
+
 std::size_t SceneGpu::pieceCount() const {
     std::size_t n = 0;
     for (const Vat& v : vats_) n += v.boxes.pieces();

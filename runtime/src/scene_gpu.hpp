@@ -52,6 +52,8 @@ public:
     // The destruction pieces drawn at scene time `time`, as boxes for the probes' capture.
     std::vector<ProbeBox> pieceBoxes(double time) const;
     std::size_t pieceCount() const;
+    // The buildings replaced by their destruction at scene time `time`.
+    std::vector<int> goneBuildings(double time) const;
 
     // Each returns the number of draw calls it made.
     std::size_t drawShadow(double time);

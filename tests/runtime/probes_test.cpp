@@ -63,7 +63,8 @@ std::filesystem::path writeBoxCity(const std::filesystem::path& dir, const std::
         const glm::vec3 c = 0.5f * (b.lo + b.hi), h = 0.5f * (b.hi - b.lo);
         nlohmann::json colours = nlohmann::json::array();
         for (int f = 0; f < 6; ++f) colours.push_back({b.colour(f).x, b.colour(f).y, b.colour(f).z});
-        list.push_back({{"name", "box"}, {"part", 0}, {"kind", b.kind}, {"centre", {c.x, c.y, c.z}}, {"u", {1, 0, 0}},
+        const bool building = std::string(b.kind) == "building";  // all parts of building 0
+        list.push_back({{"name", building ? "building_00000" : "ground_0_0"}, {"part", 0}, {"kind", b.kind}, {"centre", {c.x, c.y, c.z}}, {"u", {1, 0, 0}},
                         {"w", {0, 0, 1}}, {"half_size", {h.x, h.y, h.z}}, {"colours", colours}});
     }
     if (!buildings.positions.empty()) scene.addMeshNode(std::move(buildings));
@@ -416,4 +417,40 @@ TEST(Probes, MovingPiecesAreCapturedWhereTheyAre) {
     std::printf("probes near the block: %.4f without it, %.4f with it at frame 0, %.4f at frame 9 (gone)\n", empty, start, end);
     EXPECT_LT(start, 0.9 * empty) << "the block hides the sky from the probes around it";
     EXPECT_NEAR(end / empty, 1.0, 0.01) << "the block has left";
+}
+
+// A building replaced by its destruction leaves the capture at the destruction's start.
+TEST(Probes, AReplacedBuildingLeavesTheCapture) {
+    test::llvmpipeContext();
+    TempDir dir;
+    const std::vector<TestBox> boxes = streetBoxes();
+    const std::filesystem::path city = writeBoxCity(dir / "city", boxes), open = writeBoxCity(dir / "open", {boxes[0]});
+    {
+        const std::vector<Mesh> pieces{makeBox({-0.2f, -0.2f, -0.2f}, {0.2f, 0.2f, 0.2f}, 4)};
+        const std::vector<float> transforms{500, 0.2f, 500, 0, 0, 0, 1, 500, 0.2f, 500, 0, 0, 0, 1};  // far away
+        exporters::VatSettings settings;
+        settings.name = "rubble";
+        exporters::writeVat(exporters::encodeVat({pieces, transforms, 2, 30.0}, settings), settings, dir / "vat");
+    }
+    const auto probes = [&](const std::filesystem::path& folder, bool replaced, double time) {
+        SceneFile scene = probeScene(folder, "low", true, false);
+        if (replaced) scene.destruction.push_back({dir / "vat", "rubble", glm::dvec3(0.0), 0.0, 1.0, 0});
+        Renderer renderer(scene, smallTarget());
+        FrameSettings f = test::lookingAt({-1, 1.7, 0}, {-1, 4, -10}, 15.0);
+        f.time = time;
+        renderer.render(f);
+        return renderer.capturedProbes();
+    };
+    const auto light = [](const std::vector<CapturedProbe>& ps) {
+        double sum = 0.0;
+        for (const CapturedProbe& p : ps) sum += shIrradiance(p.radiance, glm::dvec3(0, 0, -1)).g;
+        return sum / double(std::max<std::size_t>(ps.size(), 1));
+    };
+    const std::vector<CapturedProbe> before = probes(city, true, 0.5), after = probes(city, true, 1.5), none = probes(open, false, 0.0);
+    ASSERT_EQ(before.size(), after.size()) << "placement keeps to the proxies";
+    std::printf("probes facing the buildings: %.4f standing, %.4f replaced, %.4f never built\n", light(before), light(after), light(none));
+    EXPECT_GT(std::abs(light(before) - light(after)), 0.05 * light(after));
+    // The tower (building 0 too, in this city) is gone as well: the open street's light, except
+    // that placement still follows the proxies.
+    EXPECT_NEAR(light(after) / light(none), 1.0, 0.05);
 }

@@ -44,6 +44,7 @@ struct ProbeBox {
     glm::dvec3 halfSize{0.0};
     bool ground = false;  // terrain, kerbs, streets: everything under the box is solid too
     std::array<glm::vec3, 6> colours{};  // linear albedo of the faces +u, -u, +y, -y, +w, -w
+    int building = -1;                   // the city building it stands for ("building_NNNNN"), or -1
 };
 
 // The boxes of a bake's proxies.json (bake/proxies.hpp); "ground", "kerb" and "street" boxes
