@@ -31,14 +31,16 @@ bool underRoof(vec3 p) { return overlookHeight(p.xz) > p.y + 0.25; }
 vec4 probeTileIrradiance(int slot, vec3 n) {
     int perRow = int(probes.cache.x);
     ivec2 tile = ivec2(slot % perRow, slot / perRow) * 5;
-    float tag = texelFetch(probeCache, tile, 0).a;
     if (probes.dims.w == 2) {
         vec3 c[9];
-        for (int i = 0; i < 9; ++i) c[i] = texelFetch(probeCache, tile + ivec2(i % 5, i / 5), 0).rgb;
-        return vec4(max(shIrradiance(c, n), vec3(0.0)), tag);
+        vec4 first = texelFetch(probeCache, tile, 0);
+        c[0] = first.rgb;
+        for (int i = 1; i < 9; ++i) c[i] = texelFetch(probeCache, tile + ivec2(i % 5, i / 5), 0).rgb;
+        return vec4(max(shIrradiance(c, n), vec3(0.0)), first.a);
     }
+    // Every texel of a tile holds the tag in alpha: the bilinear sample keeps it.
     vec2 t = clamp((octEncode(n) * 0.5 + 0.5) * 5.0, vec2(0.5), vec2(4.5));
-    return vec4(textureLod(probeCache, (vec2(tile) + t) * probes.cache.y, 0.0).rgb, tag);
+    return textureLod(probeCache, (vec2(tile) + t) * probes.cache.y, 0.0);
 }
 
 // How likely the probe of cache `slot` at `probe` sees p (DDGI's Chebyshev test on the depth
@@ -58,6 +60,8 @@ vec4 probeIrradiance(vec3 p, vec3 n) {
     if (probes.dims.w == 0) return vec4(0.0);
     vec3 g = (p - probes.origin.xyz) / probes.origin.w;
     ivec3 base = ivec3(floor(g));
+    // Most of a frame lies beyond the lighting area: no probe, nothing to fetch.
+    if (any(lessThan(base, ivec3(-1))) || any(greaterThanEqual(base, probes.dims.xyz))) return vec4(0.0);
     vec3 f = g - vec3(base);
     bool antiLeak = probes.cache.z > 0.5;
     float inside = antiLeak && underRoof(p + n * 0.3) ? 2.0 : 1.0;
