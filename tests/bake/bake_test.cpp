@@ -1,6 +1,8 @@
 // `bakeCity` on a small generated city, checked from the files it writes (bake_folder.hpp):
 // rooms darker than roofs, lit rooms with lamp light, overlook heights that match the
 // buildings, proxies, byte-identical files on any thread count, and bad input.
+#include "probe_reference.hpp"
+#include "render_support.hpp"
 #include "test_support.hpp"
 
 #include <dawnforge/bake/bake.hpp>
@@ -12,7 +14,10 @@
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/gltf.hpp>
 #include <dawnforge/procgen/city.hpp>
+#include <dawnforge/runtime/probe_math.hpp>
 #include <dawnforge/runtime/probe_placement.hpp>
+#include <dawnforge/runtime/renderer.hpp>
+#include <dawnforge/runtime/sky.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -298,6 +303,50 @@ TEST_F(BakeCity, ProbesFromTheProxiesStayOutOfBuildingsAndTheGround) {
     EXPECT_GT(placed, 500u);
     EXPECT_EQ(inside, 0u);
     EXPECT_EQ(under, 0u);
+}
+
+// The probes of a baked district against the ground truth: probes captured on llvmpipe from
+// the bake's proxies (the sun's shadow from the city's own shadow map) and an Embree reference
+// traced from the same boxes (proxies.json read here), one bounce, at three street spots.
+TEST_F(BakeCity, ProbesAgreeWithAnEmbreeReferenceFromTheProxies) {
+    test::llvmpipeContext();
+    const fs::path city = dir() / "one";
+    const nlohmann::json proxies = nlohmann::json::parse(test::readText(city / "bake" / "proxies.json"));
+    const auto vec = [](const nlohmann::json& v) { return glm::dvec3(v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); };
+    std::vector<test::ReferenceBox> boxes;
+    for (const nlohmann::json& b : proxies["boxes"]) {
+        test::ReferenceBox r;
+        r.centre = vec(b["centre"]);
+        r.axes = {vec(b["u"]), glm::dvec3(0, 1, 0), vec(b["w"])};
+        r.half = vec(b["half_size"]);
+        for (std::size_t f = 0; f < 6; ++f) r.colours[f] = vec(b["colours"][f]);
+        boxes.push_back(r);
+    }
+    runtime::SceneFile scene;
+    scene.cityDir = city;
+    scene.lensFlares = false;
+    scene.probes.preset = "mid";
+    scene.probes.multiBounce = false;
+    runtime::RendererOptions options;
+    options.size = {64, 48};
+    runtime::Renderer renderer(scene, options);
+    for (const glm::dvec3 spot : {glm::dvec3(35, 1.7, -35), glm::dvec3(85, 1.7, -60), glm::dvec3(60, 1.7, -85)})
+        renderer.render(test::lookingAt(spot, spot + glm::dvec3(10, 0, 0), 15.0));
+    const std::vector<runtime::CapturedProbe> probes = renderer.capturedProbes();
+    ASSERT_GT(probes.size(), 60u);
+    const test::ProbeReference reference(boxes);
+    const runtime::Lighting light = runtime::lightingAt(15.0);
+    double squaredError = 0.0, squaredReference = 0.0;
+    for (const runtime::CapturedProbe& p : probes)
+        for (const glm::dvec3 n : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, -1, 0),
+                                   glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)}) {
+            const glm::dvec3 gpu = runtime::shIrradiance(p.radiance, n), cpu = reference.irradiance(p.position, n, light, 2048);
+            squaredError += glm::dot(gpu - cpu, gpu - cpu);
+            squaredReference += glm::dot(cpu, cpu);
+        }
+    const double rms = std::sqrt(squaredError / squaredReference);
+    std::printf("district probes: %zu, relative RMS error %.4f\n", probes.size(), rms);
+    EXPECT_LT(rms, 0.05);
 }
 
 TEST_F(BakeCity, ABakeOfAnotherCityIsRefused) {

@@ -2,6 +2,7 @@
 // from the proxy boxes against a Monte Carlo reference traced with Embree on the CPU from the
 // same boxes, sun and sky; and the anti-leak tags in a sealed room beside a sunlit street.
 #include "golden.hpp"
+#include "probe_reference.hpp"
 #include "render_support.hpp"
 #include "test_support.hpp"
 
@@ -16,7 +17,6 @@
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/sky.hpp>
 
-#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -75,103 +75,18 @@ std::filesystem::path writeBoxCity(const std::filesystem::path& dir, const std::
     return dir;
 }
 
-// The Embree reference: the same boxes as triangles, traced from the probes.
-class Reference {
-public:
-    explicit Reference(const std::vector<TestBox>& boxes) : boxes_(boxes) {
-        device_ = rtcNewDevice(nullptr);
-        scene_ = rtcNewScene(device_);
-        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, boxes.size() * 24));
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, boxes.size() * 12));
-        unsigned vertex = 0, tri = 0;
-        for (const TestBox& b : boxes)
-            for (int face = 0; face < 6; ++face) {
-                const int axis = face / 2, a = (axis + 1) % 3, c = (axis + 2) % 3;
-                for (int k = 0; k < 4; ++k) {
-                    glm::vec3 p;
-                    p[axis] = face % 2 == 0 ? b.hi[axis] : b.lo[axis];
-                    p[a] = (k == 1 || k == 2) ? b.hi[a] : b.lo[a];
-                    p[c] = k >= 2 ? b.hi[c] : b.lo[c];
-                    for (int i = 0; i < 3; ++i) v[3 * (vertex + unsigned(k)) + unsigned(i)] = p[i];
-                }
-                const unsigned q[6] = {0, 1, 2, 0, 2, 3};
-                for (int i = 0; i < 6; ++i) idx[3 * tri + unsigned(i)] = vertex + q[i];
-                vertex += 4;
-                tri += 2;
-            }
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(scene_, g);
-        rtcReleaseGeometry(g);
-        rtcCommitScene(scene_);
+// The reference's boxes: the test's boxes, axis-aligned.
+std::vector<test::ReferenceBox> referenceBoxes(const std::vector<TestBox>& boxes) {
+    std::vector<test::ReferenceBox> out;
+    for (const TestBox& b : boxes) {
+        test::ReferenceBox r;
+        r.centre = 0.5 * (glm::dvec3(b.lo) + glm::dvec3(b.hi));
+        r.half = 0.5 * (glm::dvec3(b.hi) - glm::dvec3(b.lo));
+        for (int f = 0; f < 6; ++f) r.colours[std::size_t(f)] = glm::dvec3(b.colour(f));
+        out.push_back(r);
     }
-    ~Reference() {
-        rtcReleaseScene(scene_);
-        rtcReleaseDevice(device_);
-    }
-
-    // Irradiance at the probe for normal n: the radiance of `directions` uniform directions
-    // (a Fibonacci sphere), each a sky colour or a box face lit by the sun (shadow ray) and
-    // the hemisphere sky term, as probe_project.comp lights its G-buffer.
-    glm::dvec3 irradiance(glm::dvec3 p, glm::dvec3 n, const Lighting& light, int directions) const {
-        glm::dvec3 sum(0.0);
-        for (int i = 0; i < directions; ++i) {
-            const double z = 1.0 - (2.0 * i + 1.0) / directions, r = std::sqrt(1.0 - z * z), phi = i * 2.399963229728653;
-            const glm::dvec3 d(r * std::cos(phi), z, r * std::sin(phi));
-            const double cosine = glm::dot(d, n);
-            if (cosine > 0.0) sum += radiance(p, d, light) * cosine;
-        }
-        return sum * (4.0 * glm::pi<double>() / directions);
-    }
-
-private:
-    std::vector<TestBox> boxes_;
-    RTCDevice device_;
-    RTCScene scene_;
-
-    static glm::dvec3 sky(glm::dvec3 d, const Lighting& l) {
-        const double up = std::clamp(d.y, -1.0, 1.0);
-        glm::dvec3 c = glm::mix(l.horizon, l.zenith, std::pow(std::max(up, 0.0), 0.55));
-        if (up < 0.0) c = glm::mix(l.horizon, l.ground, std::clamp(-up * 3.0, 0.0, 1.0));
-        const double s = std::max(glm::dot(d, l.sunDirection), 0.0);
-        return c + l.sunColor * (0.35 * std::pow(s, 8.0) + 0.25 * std::pow(s, 64.0));
-    }
-
-    glm::dvec3 radiance(glm::dvec3 p, glm::dvec3 d, const Lighting& l) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRayHit rh{};
-        rh.ray.org_x = float(p.x), rh.ray.org_y = float(p.y), rh.ray.org_z = float(p.z);
-        rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-        rh.ray.tnear = 0.0f;
-        rh.ray.tfar = std::numeric_limits<float>::infinity();
-        rh.ray.mask = 0xffffffffu;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &context, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return sky(d, l);
-        const TestBox& box = boxes_[rh.hit.primID / 12];
-        const int face = int(rh.hit.primID % 12) / 2;
-        glm::dvec3 n(0.0);
-        n[face / 2] = face % 2 == 0 ? 1.0 : -1.0;
-        const glm::dvec3 hit = p + d * double(rh.ray.tfar);
-        const double ndl = std::max(glm::dot(n, l.sunDirection), 0.0);
-        const glm::dvec3 hemi = glm::mix(l.ground, 0.5 * (l.zenith + l.horizon), n.y * 0.5 + 0.5) * 0.9;
-        return glm::dvec3(box.colour(face)) * (l.sunColor * ndl * lit(hit + n * 1e-3, l.sunDirection) + hemi);
-    }
-
-    double lit(glm::dvec3 p, glm::dvec3 towards) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        RTCRay ray{};
-        ray.org_x = float(p.x), ray.org_y = float(p.y), ray.org_z = float(p.z);
-        ray.dir_x = float(towards.x), ray.dir_y = float(towards.y), ray.dir_z = float(towards.z);
-        ray.tnear = 0.0f;
-        ray.tfar = std::numeric_limits<float>::infinity();
-        ray.mask = 0xffffffffu;
-        rtcOccluded1(scene_, &context, &ray);
-        return ray.tfar < 0.0f ? 0.0 : 1.0;
-    }
-};
+    return out;
+}
 
 const glm::vec3 kGrass{0.25f, 0.35f, 0.15f}, kWall{0.7f, 0.45f, 0.3f}, kRoof{0.2f, 0.2f, 0.22f};
 
@@ -215,7 +130,7 @@ TEST(Probes, CapturedIrradianceAgreesWithAnEmbreeReference) {
     const std::vector<CapturedProbe> probes = renderer.capturedProbes();
     ASSERT_EQ(int(probes.size()), stats.probes.captured);
 
-    const Reference reference(boxes);
+    const test::ProbeReference reference(referenceBoxes(boxes));
     const Lighting light = lightingAt(15.0);
     const glm::dvec3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     double squaredError = 0.0, squaredReference = 0.0, worst = 0.0;
