@@ -19,6 +19,29 @@ layout(std430, binding = 5) readonly buffer SolidAngles { float solidAngle[]; };
 layout(location = 0) uniform int faceSize;
 layout(location = 1) uniform int multiBounce;
 layout(location = 2) uniform float skyDistance;  // what a sky texel counts as in the depth moments
+// Street lamps near the batch (city.json's "lamps"): position, then linear colour; the bake's
+// lamp model (bake/lighting.hpp lampIrradiance): intensity, softening radius, range.
+layout(std430, binding = 8) readonly buffer Lamps { vec4 lamps[]; };
+layout(location = 3) uniform int lampCount;
+layout(location = 4) uniform vec3 lampModel;
+
+// The bake's lamp irradiance: I · s(dir.y) · n·dir · (1 − (d/range)⁴)² / (d² + r²), where s
+// fades in as the lamp rises above the point; no shadow (a lamp behind a wall lights it too).
+vec3 streetLampLight(vec3 p, vec3 n) {
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < lampCount; ++i) {
+        vec3 d = lamps[2 * i].xyz - p;
+        float d2 = dot(d, d), dist = sqrt(d2);
+        if (dist >= lampModel.z || dist <= 0.0) continue;
+        vec3 dir = d / dist;
+        float cosine = dot(n, dir);
+        if (cosine <= 0.0) continue;
+        float t = clamp((dir.y + 0.2) / 0.4, 0.0, 1.0), q = dist / lampModel.z, q4 = q * q * q * q;
+        sum += lamps[2 * i + 1].rgb * (lampModel.x * t * t * (3.0 - 2.0 * t) * cosine * (1.0 - q4) * (1.0 - q4) /
+                                       (d2 + lampModel.y * lampModel.y));
+    }
+    return sum;
+}
 shared vec3 partial[9][128];
 
 vec3 texelRadiance(vec3 probe, vec3 dir, vec4 albedo, vec4 normalDistance) {
@@ -27,12 +50,14 @@ vec3 texelRadiance(vec3 probe, vec3 dir, vec4 albedo, vec4 normalDistance) {
     float ndl = max(dot(n, frame.sunDir.xyz), 0.0);
     float shadow = ndl > 0.0 ? sunShadowCoarse(hit, n) : 0.0;
     // Sky AO, coarsely: a surface under a roof (IN) sees no sky of its own, only what the
-    // probes already captured bring it.
-    vec3 hemi = underRoof(hit + n * 0.3) ? vec3(0.0)
+    // probes already captured bring it; nor does a street lamp light it.
+    bool indoors = underRoof(hit + n * 0.3);
+    vec3 hemi = indoors ? vec3(0.0)
               : mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
     vec4 bounce = multiBounce != 0 ? nearestProbeLight(hit, n) : vec4(0.0);
     vec3 ambient = bounce.w > 0.0 ? bounce.rgb : hemi;
-    return albedo.rgb * (frame.sunColor.rgb * ndl * shadow + ambient);
+    vec3 lamp = indoors || frame.sunDir.w <= 0.0 ? vec3(0.0) : streetLampLight(hit, n) * frame.sunDir.w;
+    return albedo.rgb * (frame.sunColor.rgb * ndl * shadow + ambient + lamp);
 }
 
 // Sums the work group's values[0 .. count) into partial[i][0] (a tree over the 128 lanes).

@@ -1,6 +1,7 @@
 // Irradiance probes on the GPU (probes.hpp).
 #include "probes.hpp"
 
+#include <dawnforge/bake/lighting.hpp>
 #include <dawnforge/core/primitives.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -14,6 +15,7 @@ namespace dawnforge::runtime {
 namespace {
 
 constexpr int kTile = 5;             // texels per side of a probe's cache tile
+constexpr double kLampReach = 30.0;  // lamps farther than this from every probe of a batch are left out (m)
 constexpr double kReach = 80.0;      // boxes farther than this from a probe are not captured (m)
 constexpr glm::dvec3 kLightingArea{7.5, 4.0, 7.5};  // half the seed's 15 × 15 × 8 m around the player
 
@@ -67,6 +69,8 @@ struct ProbeGpu::State {
     std::vector<char> slotCaptured;
     int staticBoxes = 0, boxCount = 0, boxCapacity = 0, tilesPerRow = 1;
     std::vector<ProbeBox> proxies;  // as loaded
+    std::vector<StreetLamp> lamps;
+    gl::Buffer lampBuffer;
     std::vector<int> gone;          // buildings whose proxies are hidden (sorted)
     gl::Program cull, capture, project;
     gl::Buffer boxes, visible, commands, batch, coefficients, ubo, solidAngles;
@@ -84,7 +88,7 @@ struct ProbeGpu::State {
     void captureBatch(std::span<const PlacedProbe> probes);
     void cullBatch(int n);
     void drawBatch(std::span<const PlacedProbe> probes);
-    void projectBatch(int n);
+    void projectBatch(std::span<const PlacedProbe> probes);
 };
 
 ProbeGpu::ProbeGpu() : s_(std::make_unique<State>()) {}
@@ -92,7 +96,8 @@ ProbeGpu::~ProbeGpu() = default;
 
 bool ProbeGpu::enabled() const { return s_->preset.has_value(); }
 
-void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePreset* preset, const ProbeSettings& settings) {
+void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, std::vector<StreetLamp> lamps, const ProbePreset* preset,
+                    const ProbeSettings& settings) {
     State& s = *s_;
     s.settings = settings;
     if (preset) s.preset = *preset;
@@ -111,6 +116,8 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePre
     s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
     s.proxies = boxes;
+    s.lamps = std::move(lamps);
+    s.lampBuffer = gl::makeBuffer(nullptr, std::max<std::size_t>(s.lamps.size(), 1) * 2 * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
     s.field = std::make_unique<ProbeField>(std::move(boxes));
     s.cache = std::make_unique<ProbeCache>(preset->cacheProbes());
     s.tilesPerRow = preset->cacheTexels / kTile;
@@ -231,7 +238,7 @@ void ProbeGpu::State::captureBatch(std::span<const PlacedProbe> probes) {
     glNamedBufferSubData(batch.id(), 0, GLsizeiptr(positions.size() * sizeof(glm::vec4)), positions.data());
     cullBatch(n);
     drawBatch(probes);
-    projectBatch(n);
+    projectBatch(probes);
     for (const PlacedProbe& p : probes) {
         slotPosition[std::size_t(p.slot)] = p.position;
         slotCaptured[std::size_t(p.slot)] = 1;
@@ -294,7 +301,13 @@ void ProbeGpu::State::drawBatch(std::span<const PlacedProbe> probes) {
 }
 
 // probe_project.comp: lights the G-buffer and writes each probe's tile and coefficients.
-void ProbeGpu::State::projectBatch(int n) {
+void ProbeGpu::State::projectBatch(std::span<const PlacedProbe> probes) {
+    const int n = int(probes.size());
+    std::vector<glm::vec4> near;  // the street lamps that may light what the batch sees
+    for (const StreetLamp& lamp : lamps)
+        if (std::any_of(probes.begin(), probes.end(), [&](const PlacedProbe& p) { return glm::length(p.position - lamp.position) < kLampReach; }))
+            near.insert(near.end(), {glm::vec4(glm::vec3(lamp.position), 1.0f), glm::vec4(glm::vec3(lamp.colour), 1.0f)});
+    if (!near.empty()) glNamedBufferSubData(lampBuffer.id(), 0, GLsizeiptr(near.size() * sizeof(glm::vec4)), near.data());
     glUseProgram(project.id());
     glBindTextureUnit(13, gAlbedo.id());
     glBindTextureUnit(14, gNormal.id());
@@ -305,6 +318,9 @@ void ProbeGpu::State::projectBatch(int n) {
     glUniform1i(0, settings.faceSize);
     glUniform1i(1, settings.multiBounce ? 1 : 0);
     glUniform1f(2, float(2.0 * kReach));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, lampBuffer.id());
+    glUniform1i(3, GLint(near.size() / 2));
+    glUniform3f(4, float(bake::kLampIntensity * bake::kStreetLampIntensity), float(bake::kLampSoftening), float(bake::kLampRange));
     glDispatchCompute(GLuint(n), 1, 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }

@@ -7,10 +7,11 @@
 //   capture  in batches of kProbeBatch: a compute pass culls the proxy boxes per cube face into
 //            indirect draws, one instanced draw per face renders the flat-coloured boxes into a
 //            small G-buffer (albedo, normal, distance; the clear is the sky), and a compute pass
-//            lights it (sun with the shadow map, sky, the probes already there for the second
-//            bounce) and projects it into SH L2, storing the probe's 5 × 5 cache tile;
+//            lights it (sun with the shadow map, sky, street lamps at night, the probes already
+//            there for the second bounce) and projects it into SH L2, storing the probe's 5 × 5 cache tile;
 //   inject   the lighting area's cells → cache tiles, a small 3D index texture that every lit
 //            surface reads (probe_light.glsl).
+#include "flares.hpp"
 #include "gl.hpp"
 
 #include <dawnforge/runtime/probe_math.hpp>
@@ -35,7 +36,9 @@ public:
     // `boxes`: the bake's proxies. `movingBoxes`: the most boxes update() will be given (the
     // destruction pieces). `preset` null: probes off (empty resources stay bound so that
     // shaders read "none").
-    void load(std::vector<ProbeBox> boxes, int movingBoxes, const ProbePreset* preset, const ProbeSettings& settings);
+    // `lamps`: the city's street lamps, which light the captured surfaces at night.
+    void load(std::vector<ProbeBox> boxes, int movingBoxes, std::vector<StreetLamp> lamps, const ProbePreset* preset,
+              const ProbeSettings& settings);
     bool enabled() const;
     // Binds the cache, the index and the Probes block for the shaders (units 11, 12; UBO 3).
     void bind() const;

@@ -216,7 +216,7 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
     const std::optional<ProbePreset> preset = probePreset(settings.preset);
     if (!preset) {
         if (settings.preset != "off") throw InputError(format("unknown probe preset \"{}\" (off, low, mid or high)", settings.preset));
-        s.probes.load({}, 0, nullptr, settings);
+        s.probes.load({}, 0, {}, nullptr, settings);
         return;
     }
     const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
@@ -224,7 +224,8 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
     if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
         throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
                                 settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
-    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), &*preset, settings);
+    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), readStreetLamps(*scene.cityDir),
+                  &*preset, settings);
     s.probesOn = settings.preset;
 }
 

@@ -369,3 +369,31 @@ TEST(Probes, AReplacedBuildingLeavesTheCapture) {
     // that placement still follows the proxies.
     EXPECT_NEAR(light(after) / light(none), 1.0, 0.05);
 }
+
+// At night the captured surfaces are lit by the street lamps of city.json, with the bake's lamp
+// model: the probes under a lamp see its pool of light on the ground.
+TEST(Probes, StreetLampsLightTheCaptureAtNight) {
+    test::llvmpipeContext();
+    TempDir dir;
+    const std::filesystem::path city = writeBoxCity(dir / "city", streetBoxes());
+    const auto underLamp = [&](bool lamp) {
+        // A lamp 5.4 m up at (-1, 5.4, 0): plan (x, y, h) = (-1, 0, 5.4).
+        test::writeText(city / "city.json", lamp ? R"({"lamps": [{"id": 0, "tile": [0, 0], "foot": [-1, 0], "light": [-1, 0, 5.4],
+                                                       "colour": [1.0, 0.8, 0.55]}]})"
+                                                 : R"({"lamps": []})");
+        Renderer renderer(probeScene(city, "mid", true, false), smallTarget());
+        renderer.render(test::lookingAt({-1, 1.7, 6}, {-1, 1.0, -4}, 22.0));
+        double sum = 0.0;
+        int n = 0;
+        for (const CapturedProbe& p : renderer.capturedProbes())
+            if (glm::length(p.position - glm::dvec3(-1, 1, 0)) < 3.0) {
+                sum += shIrradiance(p.radiance, glm::dvec3(0, -1, 0)).g;  // facing the ground
+                ++n;
+            }
+        EXPECT_GT(n, 3);
+        return sum / std::max(n, 1);
+    };
+    const double lit = underLamp(true), dark = underLamp(false);
+    std::printf("probes under a street lamp at 22:00, facing the ground: %.4f lit, %.4f without the lamp\n", lit, dark);
+    EXPECT_GT(lit, 3.0 * dark);
+}
