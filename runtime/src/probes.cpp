@@ -18,6 +18,7 @@ constexpr int kTile = 5;             // texels per side of a probe's cache tile
 constexpr double kLampReach = 30.0;  // lamps farther than this from every probe of a batch are left out (m)
 constexpr double kReach = 80.0;      // boxes farther than this from a probe are not captured (m)
 constexpr glm::dvec3 kLightingArea{7.5, 4.0, 7.5};  // half the seed's 15 × 15 × 8 m around the player
+constexpr glm::dvec3 kCachingArea = 2.0 * kLightingArea;  // captured ahead of need when a frame has budget left
 
 // The Probes block of probe_light.glsl (std140).
 struct ProbesBlock {
@@ -85,6 +86,7 @@ struct ProbeGpu::State {
 
     void allocate();
     void inject(glm::ivec3 lo, glm::ivec3 hi);
+    std::vector<PlacedProbe> toCapture(glm::dvec3 focus, int budget, const std::vector<PlacedProbe>& wanted);
     void captureBatch(std::span<const PlacedProbe> probes);
     void cullBatch(int n);
     void drawBatch(std::span<const PlacedProbe> probes);
@@ -189,7 +191,7 @@ ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget, std::span<const ProbeB
     const double spacing = s.preset->spacing;
     const std::vector<PlacedProbe> wanted = s.field->place(focus, kLightingArea, spacing);
     counts.wanted = int(wanted.size());
-    const std::vector<PlacedProbe> admitted = s.cache->admit(wanted, focus, budget > 0 ? budget : int(wanted.size()));
+    const std::vector<PlacedProbe> admitted = s.toCapture(focus, budget, wanted);
     for (const PlacedProbe& p : admitted) s.slotCaptured[std::size_t(p.slot)] = 0;  // a reused slot shows nothing until captured
     const glm::ivec3 lo(glm::ceil((focus - kLightingArea) / spacing - 0.5)), hi(glm::floor((focus + kLightingArea) / spacing - 0.5));
     bind();
@@ -229,6 +231,19 @@ void ProbeGpu::State::inject(glm::ivec3 lo, glm::ivec3 hi) {
     block.dims = glm::ivec4(dims, block.dims.w);
     glNamedBufferSubData(ubo.id(), 0, sizeof(ProbesBlock), &block);
     glBindTextureUnit(12, index.id());
+}
+
+// The new probes to capture this frame: the lighting area's first; with budget left over once
+// the area is all held (the player is idle), the caching area's around it, so that probes are
+// ready before the player gets there. Budget 0: the whole lighting area, nothing more.
+std::vector<PlacedProbe> ProbeGpu::State::toCapture(glm::dvec3 focus, int budget, const std::vector<PlacedProbe>& wanted) {
+    std::vector<PlacedProbe> admitted = cache->admit(wanted, focus, budget > 0 ? budget : int(wanted.size()));
+    const bool areaHeld = std::all_of(wanted.begin(), wanted.end(), [&](const PlacedProbe& p) { return cache->holds(p.key); });
+    if (budget > int(admitted.size()) && areaHeld) {
+        const std::vector<PlacedProbe> more = cache->admit(field->place(focus, kCachingArea, preset->spacing), focus, budget - int(admitted.size()));
+        admitted.insert(admitted.end(), more.begin(), more.end());
+    }
+    return admitted;
 }
 
 void ProbeGpu::State::captureBatch(std::span<const PlacedProbe> probes) {

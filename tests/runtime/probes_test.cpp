@@ -397,3 +397,26 @@ TEST(Probes, StreetLampsLightTheCaptureAtNight) {
     std::printf("probes under a street lamp at 22:00, facing the ground: %.4f lit, %.4f without the lamp\n", lit, dark);
     EXPECT_GT(lit, 3.0 * dark);
 }
+
+// With a frame budget (as `view` has), the lighting area converges over frames, nearest first;
+// once it is all held, the spare budget captures the caching area around it ahead of need.
+TEST(Probes, ABudgetConvergesTheAreaThenCachesAhead) {
+    test::llvmpipeContext();
+    TempDir dir;
+    const std::filesystem::path city = writeBoxCity(dir / "city", streetBoxes());
+    RendererOptions options = smallTarget();
+    options.probeBudget = 30;
+    Renderer renderer(probeScene(city, "mid", true, true), options);
+    const FrameSettings frame = test::lookingAt({-1, 1.7, 0}, {-1, 4, -10}, 15.0);
+    std::vector<ProbeStats> frames;
+    for (int i = 0; i < 6; ++i) frames.push_back(renderer.render(frame).probes);
+    const int wanted = frames[0].wanted;
+    ASSERT_GT(wanted, 60) << "more than two frames' budget";
+    EXPECT_EQ(frames[0].captured, 30);
+    EXPECT_EQ(frames[0].injected, 30);
+    EXPECT_EQ(frames[1].injected, 60);
+    EXPECT_EQ(frames.back().injected, wanted);
+    for (const ProbeStats& f : frames) EXPECT_EQ(f.captured, 30) << "the spare budget is spent on the caching area";
+    EXPECT_EQ(frames.back().held, 6 * 30);
+    EXPECT_GT(frames.back().held, wanted);
+}
