@@ -58,15 +58,19 @@ float sunShadowCoarse(vec3 worldPos, vec3 normal) {
     return q.z > 1.5 ? 1.0 : texture(shadowMap, q);
 }
 
+// The sky/ground hemisphere's light on an open surface of normal n (no occlusion).
+vec3 hemisphereLight(vec3 n) {
+    return mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
+}
+
 #include "probe_light.glsl"
 
 // Light that is not the direct sun: the probes' irradiance / π where probes are near (the
 // renderer's light unit: an open sky gives the hemisphere term's 0.45 (zenith + horizon)), the
 // sky/ground hemisphere elsewhere, blended where the probes thin out.
 vec3 ambientLight(vec3 worldPos, vec3 n) {
-    vec3 hemi = mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
     vec4 probe = probeIrradiance(worldPos, n);
-    return mix(hemi, probe.rgb / kPi, clamp(probe.w * 4.0, 0.0, 1.0));
+    return mix(hemisphereLight(n), probe.rgb / kPi, clamp(probe.w * 4.0, 0.0, 1.0));
 }
 
 // Diffuse light on a surface: the sun with its shadow plus the ambient light.

@@ -1,11 +1,12 @@
 #version 450 core
 // Probe capture, step 3: light the G-buffer of each probe of the batch and project it. One
 // work group per probe: every texel's radiance (the sky where nothing was hit; else the
-// face's albedo × (sun with the shadow map + ambient), the ambient from the probes already
-// captured where there are some: the second bounce, from the nearest one) is projected into SH L2, weighted by the
-// texel's solid angle, and reduced in shared memory; so are the mean and mean square of the
-// distances each cube face saw (the depth moments of the Chebyshev visibility test). The probe's cache tile gets the 9
-// coefficients (SH) or the 5 × 5 octahedral irradiance map (ambient cube), with its IN/OUT tag.
+// face's albedo × (sun with the shadow map + ambient + street lamps), the ambient from the
+// nearest probe already captured where there is one: the second bounce) is projected into SH
+// L2, weighted by the texel's solid angle, and reduced in shared memory; so are the mean and
+// mean square of the distances each cube face saw (the depth moments of the Chebyshev
+// visibility test). The probe's cache tile gets the 9 coefficients (SH) or the 5 × 5
+// octahedral irradiance map (ambient cube), with its IN/OUT tag.
 #include "common.glsl"
 #include "probe_box.glsl"
 layout(local_size_x = 128) in;
@@ -52,8 +53,7 @@ vec3 texelRadiance(vec3 probe, vec3 dir, vec4 albedo, vec4 normalDistance) {
     // Sky AO, coarsely: a surface under a roof (IN) sees no sky of its own, only what the
     // probes already captured bring it; nor does a street lamp light it.
     bool indoors = underRoof(hit + n * 0.3);
-    vec3 hemi = indoors ? vec3(0.0)
-              : mix(frame.groundColor.rgb, 0.5 * (frame.skyZenith.rgb + frame.skyHorizon.rgb), n.y * 0.5 + 0.5) * 0.9;
+    vec3 hemi = indoors ? vec3(0.0) : hemisphereLight(n);
     vec4 bounce = multiBounce != 0 ? nearestProbeLight(hit, n) : vec4(0.0);
     vec3 ambient = bounce.w > 0.0 ? bounce.rgb : hemi;
     vec3 lamp = indoors || frame.sunDir.w <= 0.0 ? vec3(0.0) : streetLampLight(hit, n) * frame.sunDir.w;

@@ -85,6 +85,7 @@ struct ProbeGpu::State {
     ProbesBlock block;
 
     void allocate();
+    void uploadMoving(std::span<const ProbeBox> moving);
     void inject(glm::ivec3 lo, glm::ivec3 hi);
     std::vector<PlacedProbe> toCapture(glm::dvec3 focus, int budget, const std::vector<PlacedProbe>& wanted);
     void captureBatch(std::span<const PlacedProbe> probes);
@@ -182,12 +183,6 @@ ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget, std::span<const ProbeB
     State& s = *s_;
     ProbeStats counts;
     if (!s.preset) return counts;
-    // The moving boxes (destruction pieces) follow the proxies in the box buffer.
-    const std::size_t count = std::min<std::size_t>(moving.size(), std::size_t(s.boxCapacity - s.staticBoxes));
-    if (count > 0)
-        glNamedBufferSubData(s.boxes.id(), GLintptr(std::size_t(s.staticBoxes) * sizeof(GpuBox)), GLsizeiptr(count * sizeof(GpuBox)),
-                             gpuBoxes(moving.first(count)).data());
-    s.boxCount = s.staticBoxes + int(count);
     const double spacing = s.preset->spacing;
     const std::vector<PlacedProbe> wanted = s.field->place(focus, kLightingArea, spacing);
     counts.wanted = int(wanted.size());
@@ -195,9 +190,12 @@ ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget, std::span<const ProbeB
     for (const PlacedProbe& p : admitted) s.slotCaptured[std::size_t(p.slot)] = 0;  // a reused slot shows nothing until captured
     const glm::ivec3 lo(glm::ceil((focus - kLightingArea) / spacing - 0.5)), hi(glm::floor((focus + kLightingArea) / spacing - 0.5));
     bind();
-    s.inject(lo, hi);  // the probes captured before: the second bounce reads them
-    for (std::size_t first = 0; first < admitted.size(); first += kProbeBatch)
-        s.captureBatch(std::span(admitted).subspan(first, std::min<std::size_t>(kProbeBatch, admitted.size() - first)));
+    if (!admitted.empty()) {
+        s.uploadMoving(moving);
+        s.inject(lo, hi);  // the probes captured before: the second bounce reads them
+        for (std::size_t first = 0; first < admitted.size(); first += kProbeBatch)
+            s.captureBatch(std::span(admitted).subspan(first, std::min<std::size_t>(kProbeBatch, admitted.size() - first)));
+    }
     s.inject(lo, hi);
     counts.captured = int(admitted.size());
     std::vector<glm::vec4> shown;
@@ -209,6 +207,15 @@ ProbeStats ProbeGpu::update(glm::dvec3 focus, int budget, std::span<const ProbeB
     s.shownCount = int(shown.size());
     counts.held = int(s.cache->size());
     return counts;
+}
+
+// The moving boxes (destruction pieces) follow the proxies in the box buffer.
+void ProbeGpu::State::uploadMoving(std::span<const ProbeBox> moving) {
+    const std::size_t count = std::min<std::size_t>(moving.size(), std::size_t(boxCapacity - staticBoxes));
+    if (count > 0)
+        glNamedBufferSubData(boxes.id(), GLintptr(std::size_t(staticBoxes) * sizeof(GpuBox)), GLsizeiptr(count * sizeof(GpuBox)),
+                             gpuBoxes(moving.first(count)).data());
+    boxCount = staticBoxes + int(count);
 }
 
 // The lighting area's cells [lo, hi] → cache slot + 1 of the held, captured probe there (0: none).

@@ -224,8 +224,7 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
     if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
         throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
                                 settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
-    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), readStreetLamps(*scene.cityDir),
-                  &*preset, settings);
+    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), s.lamps, &*preset, settings);
     s.probesOn = settings.preset;
 }
 
@@ -237,10 +236,9 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
         throw InputError(format("image size {}x{} is out of range (1 to 16384)", options.size.x, options.size.y));
     s.scene.load(sceneFile, options.shadowMapSize);
     s.lensFlares = sceneFile.lensFlares;
-    if (s.lensFlares) {
-        s.flares.load();
-        if (sceneFile.cityDir) s.lamps = readStreetLamps(*sceneFile.cityDir);
-    }
+    if (s.lensFlares) s.flares.load();
+    // city.json's street lamps: the flares show them, the probes' capture is lit by them.
+    if (sceneFile.cityDir && (s.lensFlares || sceneFile.probes.preset != "off")) s.lamps = readStreetLamps(*sceneFile.cityDir);
     s.loadProbes(sceneFile);
     s.target = makeTarget(options.size);
     s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
