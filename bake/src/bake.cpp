@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <cstdlib>
 #include <unistd.h>
 
@@ -50,6 +51,7 @@ Mesh worldMesh(const MeshNode& node) {
 }
 
 struct CityBuilding {
+    bool halo = false;      // a world tile's neighbour: lit and traced, not written
     std::string name;       // building_NNNNN
     std::uint32_t id = 0;   // NNNNN (the runtime's instance id), else its order
     std::string lod0Node, lod1Node;
@@ -57,6 +59,7 @@ struct CityBuilding {
 };
 
 struct CityStatic {
+    bool halo = false;
     std::string name;
     Mesh mesh;
 };
@@ -69,6 +72,55 @@ struct CityInput {
     std::vector<std::byte> glb;
 };
 
+// Sorts city.glb's nodes (world matrices; `halo` per node, or empty for none) into
+// buildings and other receivers.
+void addNodes(CityInput& city, std::span<const MeshNode> nodes, const std::vector<bool>& halo) {
+    std::map<std::string, std::size_t> index;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+        const MeshNode& node = nodes[k];
+        const std::string& name = node.name;
+        const bool lod0 = name.ends_with("_lod0"), lod1 = name.ends_with("_lod1");
+        const bool inHalo = !halo.empty() && halo[k];
+        // Trees sway, lamps are thin and the far land is a backdrop kilometres wide: the
+        // runtime lights them by sun and sky, unbaked.
+        if (name.starts_with("tree_") || name.starts_with("lamp_") || name.starts_with("land_")) continue;
+        if (!lod0 && !lod1) {
+            city.statics.push_back({inHalo, name, worldMesh(node)});
+            continue;
+        }
+        const std::string key = name.substr(0, name.size() - 5);
+        auto [it, added] = index.try_emplace(key, city.buildings.size());
+        if (added) {
+            CityBuilding b;
+            b.halo = inHalo;
+            b.name = key;
+            b.id = std::uint32_t(city.buildings.size());
+            if (key.starts_with("building_")) b.id = std::uint32_t(std::strtoul(key.c_str() + 9, nullptr, 10));
+            city.buildings.push_back(std::move(b));
+        }
+        CityBuilding& b = city.buildings[it->second];
+        (lod0 ? b.lod0Node : b.lod1Node) = name;
+        (lod0 ? b.lod0 : b.lod1) = worldMesh(node);
+    }
+}
+
+std::size_t writtenBuildings(const CityInput& city) {
+    return std::size_t(std::count_if(city.buildings.begin(), city.buildings.end(), [](const CityBuilding& b) { return !b.halo; }));
+}
+
+// city.json's street lamps' lights in glTF axes. A world's tile has city.glb in its own frame,
+// whose origin city.json gives.
+std::vector<glm::vec3> streetLamps(const nlohmann::json& j) {
+    const auto origin = j.contains("origin") ? j["origin"].get<std::array<double, 2>>() : std::array<double, 2>{0.0, 0.0};
+    std::vector<glm::vec3> lamps;
+    if (j.contains("lamps"))
+        for (const nlohmann::json& lamp : j["lamps"]) {
+            const auto l = lamp.at("light").get<std::array<double, 3>>();
+            lamps.emplace_back(float(l[0] - origin[0]), float(l[2]), float(origin[1] - l[1]));
+        }
+    return lamps;
+}
+
 CityInput readCity(const std::filesystem::path& cityDir) {
     namespace fs = std::filesystem;
     if (!fs::is_directory(cityDir))
@@ -80,31 +132,7 @@ CityInput readCity(const std::filesystem::path& cityDir) {
     CityInput city;
     city.glb = readBinaryFile(cityDir / "city.glb");
     city.cityJson = readTextFile(cityDir / "city.json");
-    std::vector<MeshNode> nodes = loadMeshNodes(cityDir / "city.glb");
-    std::map<std::string, std::size_t> index;
-    for (MeshNode& node : nodes) {
-        const std::string& name = node.name;
-        const bool lod0 = name.ends_with("_lod0"), lod1 = name.ends_with("_lod1");
-        // Trees sway, lamps are thin and the far land is a backdrop kilometres wide: the
-        // runtime lights them by sun and sky, unbaked.
-        if (name.starts_with("tree_") || name.starts_with("lamp_") || name.starts_with("land_")) continue;
-        if (!lod0 && !lod1) {
-            city.statics.push_back({name, worldMesh(node)});
-            continue;
-        }
-        const std::string key = name.substr(0, name.size() - 5);
-        auto [it, added] = index.try_emplace(key, city.buildings.size());
-        if (added) {
-            CityBuilding b;
-            b.name = key;
-            b.id = std::uint32_t(city.buildings.size());
-            if (key.starts_with("building_")) b.id = std::uint32_t(std::strtoul(key.c_str() + 9, nullptr, 10));
-            city.buildings.push_back(std::move(b));
-        }
-        CityBuilding& b = city.buildings[it->second];
-        (lod0 ? b.lod0Node : b.lod1Node) = name;
-        (lod0 ? b.lod0 : b.lod1) = worldMesh(node);
-    }
+    addNodes(city, loadMeshNodes(cityDir / "city.glb"), {});
     // city.json and city.glb must describe the same city.
     try {
         const nlohmann::json j = nlohmann::json::parse(city.cityJson);
@@ -114,11 +142,7 @@ CityInput readCity(const std::filesystem::path& cityDir) {
                 throw InputError(format("{}: city.json lists {} buildings but city.glb holds {}: the city folder is incomplete or mixed",
                                         cityDir.string(), listed, city.buildings.size()));
         }
-        if (j.contains("lamps"))
-            for (const nlohmann::json& lamp : j["lamps"]) {
-                const auto l = lamp.at("light").get<std::array<double, 3>>();
-                city.streetLamps.emplace_back(float(l[0]), float(l[2]), float(-l[1]));
-            }
+        city.streetLamps = streetLamps(j);
     } catch (const nlohmann::json::exception& e) {
         throw InputError(format("{}: {}", (cityDir / "city.json").string(), oneLine(e.what())));
     }
@@ -131,6 +155,7 @@ std::uint8_t triangleMaterial(const Mesh& m, std::size_t t) {
 
 // Everything one receiver's ReceiverInput points into.
 struct ReceiverData {
+    bool halo = false;                 // lit and traced, not written
     std::string name, kind;
     std::uint32_t building = 0;
     std::vector<std::pair<std::string, std::size_t>> meshes;  // node, vertices
@@ -139,6 +164,7 @@ struct ReceiverData {
     std::vector<std::uint8_t> materials, occluder;
     std::vector<float> texel, rayOffset;
     std::vector<std::uint8_t> group;  // per triangle: 0 LOD0 or the ground, 1 LOD1
+    std::vector<glm::vec3> chartPositions;  // positions from the first vertex: what the charts see
     std::vector<std::uint32_t> glassRoom;  // per vertex: room slot + 1, 0 for none
     std::vector<std::uint32_t> roomIndex;  // per slot: the building's room index
     ChartSet charts;
@@ -201,6 +227,7 @@ std::uint32_t roomOf(const Mesh& m, std::size_t t) { return std::uint32_t(std::l
 // order of their index), a lamp in each lit room and the windows the room table looks through.
 void buildingReceiver(const CityBuilding& b, std::uint32_t bi, const BakeSettings& settings, ReceiverData& r,
                       std::vector<Lamp>& lamps, std::vector<RoomWindow>& windows) {
+    r.halo = b.halo;
     r.name = b.name;
     r.kind = "building";
     r.building = b.id;
@@ -284,6 +311,7 @@ Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
     tbb::parallel_for(std::size_t{0}, city.statics.size(), [&](std::size_t si) {
         ReceiverData& r = out.data[city.buildings.size() + si];
         const CityStatic& s = city.statics[si];
+        r.halo = s.halo;
         r.name = s.name;
         r.kind = s.name.starts_with("ground_") ? "ground" : "mesh";
         r.meshes.emplace_back(s.name, s.mesh.vertexCount());
@@ -293,29 +321,43 @@ Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
     return out;
 }
 
-// Polygons inside solids (caps between storeys, faces buried in walls) get no texels; then
-// every receiver's charts. A polygon too large for a chart at this texel size is a budget error.
-std::size_t chartReceivers(std::vector<ReceiverData>& data, std::span<const ReceiverInput> inputs, const RayScene& scene,
-                           const BakeSettings& settings) {
-    std::size_t hiddenCount = 0;
-    std::vector<std::vector<float>> texels(data.size());
-    for (std::size_t i = 0; i < data.size(); ++i) texels[i] = data[i].texel;
-    const std::vector<std::vector<std::uint8_t>> hidden = hiddenTriangles(scene, inputs, texels, 8, settings.seed);
-    for (std::size_t i = 0; i < data.size(); ++i)
-        for (std::size_t t = 0; t < hidden[i].size(); ++t)
-            if (hidden[i][t]) data[i].texel[t] = 0.0f, ++hiddenCount;
+// A receiver's positions less its first vertex's, each difference exact: the charts and their
+// packing then do not depend on where the receiver stands, so a building laid out in its
+// tile's frame gets the same lightmap layout as in the whole city's (float positions moved
+// by a world tile's origin are moved exactly).
+std::vector<glm::vec3> fromFirstVertex(std::span<const glm::vec3> positions) {
+    std::vector<glm::vec3> out(positions.size());
+    if (positions.empty()) return out;
+    const glm::dvec3 origin(positions.front());
+    for (std::size_t i = 0; i < positions.size(); ++i) out[i] = glm::vec3(glm::dvec3(positions[i]) - origin);
+    return out;
+}
+
+// Polygons inside the receiver's own solids (caps between storeys, faces buried in walls) get
+// no texels; then every receiver's charts. Both see the receiver alone, in its own frame
+// (fromFirstVertex), so its layout does not depend on its neighbours or on where it stands. A
+// polygon too large for a chart at this texel size is a budget error.
+std::size_t chartReceivers(std::vector<ReceiverData>& data, std::span<const ReceiverInput> inputs, const BakeSettings& settings) {
     std::vector<std::string> errors(data.size());
+    std::vector<std::size_t> hidden(data.size(), 0);
     tbb::parallel_for(std::size_t{0}, data.size(), [&](std::size_t i) {
         ReceiverData& r = data[i];
+        r.chartPositions = fromFirstVertex(r.positions);
+        ReceiverInput alone = inputs[i];
+        alone.positions = r.chartPositions;
+        const std::unique_ptr<RayScene> scene = occluderScene(std::span(&alone, 1));
+        const std::vector<std::uint8_t> buried = hiddenTriangles(*scene, std::span(&alone, 1), std::span(&r.texel, 1), 8, settings.seed)[0];
+        for (std::size_t t = 0; t < buried.size(); ++t)
+            if (buried[t]) r.texel[t] = 0.0f, ++hidden[i];
         try {
-            r.charts = makeCharts(ChartMesh{r.positions, r.indices, r.texel, r.group});
+            r.charts = makeCharts(ChartMesh{r.chartPositions, r.indices, r.texel, r.group});
         } catch (const InputError& e) {
             errors[i] = format("{}: {}", r.name, e.what());
         }
     });
     for (const std::string& e : errors)
         if (!e.empty()) throw BakeBudgetError(e, 0.0);
-    return hiddenCount;
+    return std::accumulate(hidden.begin(), hidden.end(), std::size_t{0});
 }
 
 // The memory the bake will need, checked against the budget before anything large is
@@ -353,7 +395,7 @@ void packReceivers(std::vector<ReceiverData>& data, const BakeSettings& settings
         std::vector<glm::ivec2> extra;
         if (!r.roomIndex.empty()) extra.push_back(roomTableSize(std::uint32_t(r.roomIndex.size())));
         try {
-            const ChartMesh mesh{r.positions, r.indices, r.texel, r.group};
+            const ChartMesh mesh{r.chartPositions, r.indices, r.texel, r.group};
             r.layout = packLightmap(mesh, std::move(r.charts), extra, r.name);
         } catch (const InputError& e) {
             errors[i] = e.what();
@@ -370,17 +412,21 @@ void packReceivers(std::vector<ReceiverData>& data, const BakeSettings& settings
 std::vector<ProxyBox> cityProxies(const CityInput& city, const std::string& overrides, const std::filesystem::path& cityDir) {
     std::vector<ProxyBox> proxies;
     const auto add = [&](std::vector<ProxyBox> boxes) { proxies.insert(proxies.end(), boxes.begin(), boxes.end()); };
-    for (const CityBuilding& b : city.buildings) add(buildingProxies(b.name, b.lod1.positions.empty() ? b.lod0 : b.lod1));
+    for (const CityBuilding& b : city.buildings)
+        if (!b.halo) add(buildingProxies(b.name, b.lod1.positions.empty() ? b.lod0 : b.lod1));
     add(streetProxies(city.cityJson, (cityDir / "city.json").string()));
-    for (const CityStatic& s : city.statics) add(groundProxies(s.name, s.mesh));
+    for (const CityStatic& s : city.statics)
+        if (!s.halo) add(groundProxies(s.name, s.mesh));
     if (!overrides.empty()) applyProxyOverrides(proxies, overrides, (cityDir / "proxy_colours.json").string());
     return proxies;
 }
 
 OverlookMap cityOverlook(const CityInput& city, const BakeSettings& settings) {
     std::vector<OverlookMesh> meshes;
-    for (const CityBuilding& b : city.buildings) meshes.push_back({&(b.lod1.positions.empty() ? b.lod0 : b.lod1), true});
-    for (const CityStatic& s : city.statics) meshes.push_back({&s.mesh, false});
+    for (const CityBuilding& b : city.buildings)
+        if (!b.halo) meshes.push_back({&(b.lod1.positions.empty() ? b.lod0 : b.lod1), true});
+    for (const CityStatic& s : city.statics)
+        if (!s.halo) meshes.push_back({&s.mesh, false});
     return bakeOverlook(meshes, settings.overlookTexel);
 }
 
@@ -388,9 +434,12 @@ OverlookMap cityOverlook(const CityInput& city, const BakeSettings& settings) {
 std::string manifestJson(const CityInput& city, const BakeSettings& settings, const std::vector<ReceiverData>& data,
                          std::span<const ReceiverInput> inputs, const Lighting& lighting, const BakeReport& report) {
     nlohmann::ordered_json receivers = nlohmann::ordered_json::array();
+    std::size_t written = 0;
     for (std::size_t i = 0; i < data.size(); ++i) {
         const ReceiverData& r = data[i];
         const ReceiverInput& in = inputs[i];
+        if (r.halo) continue;
+        ++written;
         nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
         for (const auto& [node, vertices] : r.meshes) meshes.push_back({{"node", node}, {"vertices", vertices}});
         nlohmann::ordered_json j{{"name", r.name}, {"kind", r.kind}};
@@ -422,7 +471,7 @@ std::string manifestJson(const CityInput& city, const BakeSettings& settings, co
         {"a", {{"name", "lamps"}, {"range", kChannelRange[3]}, {"lamp_intensity", kLampIntensity}, {"lamp_range", kLampRange}}}};
     manifest["mip_levels"] = kLightmapLevels;
     manifest["room_table"] = {{"columns", kRoomTableColumns}, {"block", kChartAlign}};
-    manifest["counts"] = {{"receivers", data.size()}, {"buildings", city.buildings.size()}, {"rooms", report.rooms},
+    manifest["counts"] = {{"receivers", written}, {"buildings", writtenBuildings(city)}, {"rooms", report.rooms},
                           {"lamps", report.lamps},    {"texels", report.texels},          {"proxies", report.proxies}};
     manifest["receivers"] = std::move(receivers);
     manifest["overlook"] = "overlook.exr";
@@ -432,7 +481,7 @@ std::string manifestJson(const CityInput& city, const BakeSettings& settings, co
 
 // Writes every file into CITY_DIR/bake.partial-PID, then swaps it in for CITY_DIR/bake: a
 // failure leaves the old bake (or none) and no partial folder.
-void writeBakeFolder(const std::filesystem::path& cityDir, std::span<const ReceiverInput> inputs, const Lighting& lighting,
+void writeBakeFolder(const std::filesystem::path& cityDir, std::span<const ReceiverData> data, std::span<const ReceiverInput> inputs, const Lighting& lighting,
                      const OverlookMap& overlook, const std::vector<ProxyBox>& proxies, const std::string& manifest) {
     namespace fs = std::filesystem;
     const fs::path target = cityDir / "bake";
@@ -450,6 +499,7 @@ void writeBakeFolder(const std::filesystem::path& cityDir, std::span<const Recei
     ensureOutputDirectory(partial);
     std::vector<std::string> errors(inputs.size());
     tbb::parallel_for(std::size_t{0}, inputs.size(), [&](std::size_t i) {
+        if (data[i].halo) return;
         const ReceiverInput& in = inputs[i];
         const ReceiverLighting& out = lighting.receivers[i];
         exporters::Image image{in.layout.size.x, in.layout.size.y, {}};
@@ -503,14 +553,12 @@ void checkBakeSettings(const BakeSettings& s) {
     check(std::isfinite(s.memoryBudgetMb) && s.memoryBudgetMb >= 64.0, "memory budget", s.memoryBudgetMb, "at least 64 MB");
 }
 
-BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& settings, const ProgressFn& progress) {
-    namespace fs = std::filesystem;
-    const auto start = Clock::now();
-    checkBakeSettings(settings);
+namespace {
+
+// Bakes a loaded city (or a world tile with its halo) and writes CITY_DIR/bake/.
+BakeReport bakeLoaded(const CityInput& city, const std::filesystem::path& cityDir, const std::string& overrides,
+                      const BakeSettings& settings, const ProgressFn& progress, Clock::time_point start) {
     BakeReport report;
-    const CityInput city = readCity(cityDir);
-    std::string overrides;
-    if (fs::exists(cityDir / "proxy_colours.json")) overrides = readTextFile(cityDir / "proxy_colours.json");
     report.loadSeconds = secondsSince(start);
     if (!progress(0.02)) throw Cancelled();
 
@@ -518,14 +566,15 @@ BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& se
     auto t0 = Clock::now();
     Receivers receivers = cityReceivers(city, settings);
     std::vector<ReceiverData>& data = receivers.data;
-    for (std::size_t bi = 0; bi < city.buildings.size(); ++bi) report.rooms += data[bi].roomIndex.size();
+    for (std::size_t bi = 0; bi < city.buildings.size(); ++bi)
+        if (!data[bi].halo) report.rooms += data[bi].roomIndex.size();
     std::vector<ReceiverInput> inputs(data.size());
     for (std::size_t i = 0; i < data.size(); ++i) {
         const ReceiverData& r = data[i];
         inputs[i] = ReceiverInput{r.name, r.positions, r.indices, r.materials, r.occluder, r.rayOffset, {}, std::uint32_t(r.roomIndex.size())};
     }
     const std::unique_ptr<RayScene> scene = occluderScene(inputs);
-    report.hiddenTriangles = chartReceivers(data, inputs, *scene, settings);
+    report.hiddenTriangles = chartReceivers(data, inputs, settings);
     report.estimatedMb = checkBudget(data, city.glb.size(), settings);
     packReceivers(data, settings);
     report.layoutSeconds = secondsSince(t0);
@@ -547,12 +596,41 @@ BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& se
     const OverlookMap overlook = cityOverlook(city, settings);
     const std::vector<ProxyBox> proxies = cityProxies(city, overrides, cityDir);
     report.proxies = proxies.size();
-    report.buildings = city.buildings.size();
-    report.receivers = data.size();
-    writeBakeFolder(cityDir, inputs, lighting, overlook, proxies, manifestJson(city, settings, data, inputs, lighting, report));
+    report.buildings = writtenBuildings(city);
+    report.receivers = std::size_t(std::count_if(data.begin(), data.end(), [](const ReceiverData& r) { return !r.halo; }));
+    writeBakeFolder(cityDir, data, inputs, lighting, overlook, proxies, manifestJson(city, settings, data, inputs, lighting, report));
     report.writeSeconds = secondsSince(t0);
     report.seconds = secondsSince(start);
     return report;
+}
+
+}  // namespace
+
+BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& settings, const ProgressFn& progress) {
+    namespace fs = std::filesystem;
+    const auto start = Clock::now();
+    checkBakeSettings(settings);
+    const CityInput city = readCity(cityDir);
+    std::string overrides;
+    if (fs::exists(cityDir / "proxy_colours.json")) overrides = readTextFile(cityDir / "proxy_colours.json");
+    return bakeLoaded(city, cityDir, overrides, settings, progress, start);
+}
+
+BakeReport bakeRegion(const BakeRegion& region, const std::filesystem::path& cityDir, const BakeSettings& settings,
+                      const ProgressFn& progress) {
+    const auto start = Clock::now();
+    checkBakeSettings(settings);
+    DAWNFORGE_ASSERT(region.halo.size() == region.nodes.size(), "bakeRegion(): one halo flag per node");
+    CityInput city;
+    city.glb = region.cityGlb;
+    city.cityJson = region.cityJson;
+    try {
+        city.streetLamps = streetLamps(nlohmann::json::parse(region.regionCityJson));
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(format("the region's city.json: {}", oneLine(e.what())));
+    }
+    addNodes(city, region.nodes, region.halo);
+    return bakeLoaded(city, cityDir, {}, settings, progress, start);
 }
 
 }  // namespace dawnforge::bake

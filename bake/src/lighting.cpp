@@ -46,6 +46,7 @@ struct Chunk {
 
 struct ReceiverState {
     const ReceiverInput* in = nullptr;
+    std::uint64_t key = 0;                  // receiverKey(name): its random streams
     glm::ivec2 size{0};
     std::vector<TexelSample> samples;
     std::vector<std::uint32_t> coarse;      // samples the bounces gather at (every other texel of each chart)
@@ -105,8 +106,16 @@ std::vector<glm::vec3> cosineSet(std::uint32_t n) {
     return out;
 }
 
-std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t pass, std::uint32_t receiver, std::uint32_t texel) {
-    return mix64(seed ^ mix64(pass * 0x9e3779b97f4a7c15ull ^ (std::uint64_t(receiver) << 32 | texel)));
+// A receiver's random streams follow its name, not its place in the list, so that a building
+// baked with its tile's halo draws the same rays as in a bake of the whole city.
+std::uint64_t receiverKey(std::string_view name) {
+    std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a
+    for (char c : name) h = (h ^ std::uint8_t(c)) * 0x100000001b3ull;
+    return mix64(h);
+}
+
+std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t pass, std::uint64_t receiverKey, std::uint32_t texel) {
+    return mix64(seed ^ mix64(pass * 0x9e3779b97f4a7c15ull ^ receiverKey ^ texel));
 }
 
 // Bilinear read of a 3-channel atlas buffer at texel coordinates (GL's convention: texel
@@ -343,7 +352,7 @@ std::vector<std::vector<std::uint8_t>> hiddenTriangles(const RayScene& scene, st
                 cumulative.push_back(total);
             }
             if (total <= 0.0) continue;
-            Rng rng(streamSeed(seed, kHiddenPass, std::uint32_t(r), patch.front()));
+            Rng rng(streamSeed(seed, kHiddenPass, receiverKey(in.name), patch.front()));
             rays.resize(std::size_t(probes));
             hits.resize(rays.size());
             for (int k = 0; k < probes; ++k) {
@@ -379,6 +388,7 @@ namespace {
 // Texel samples, coarse (bounce) samples, triangle data and buffers of one receiver.
 void prepareReceiver(const ReceiverInput& in, const LightingSettings& settings, ReceiverState& s) {
     s.in = &in;
+    s.key = receiverKey(in.name);
     s.size = in.layout.size;
     const std::size_t nt = in.indices.size() / 3;
     DAWNFORGE_ASSERT(in.materials.size() == nt && in.occluder.size() == nt && in.rayOffset.size() == nt,
@@ -550,7 +560,7 @@ private:
         sc.hits.resize(sc.rays.size());
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             const TexelSample& ts = s.samples[index(i)];
-            Rng rng(streamSeed(settings_.seed, pass, chunk.receiver, ts.texel));
+            Rng rng(streamSeed(settings_.seed, pass, s.key, ts.texel));
             const float angle = float(2.0 * kPi * rng.uniform());
             const float c = std::cos(angle), sn = std::sin(angle);
             glm::vec3 t, b;
@@ -593,7 +603,7 @@ private:
         for (std::uint32_t i = 0; i < chunk.count; ++i) {
             const TexelSample& ts = s.samples[chunk.first + i];
             const glm::vec3 origin = ts.position + ts.normal * s.in->rayOffset[ts.triangle];
-            Rng rng(streamSeed(settings_.seed, kSunPass, chunk.receiver, ts.texel));
+            Rng rng(streamSeed(settings_.seed, kSunPass, s.key, ts.texel));
             for (std::uint32_t k = 0; k < K; ++k) {
                 const double hours = kDayStart + (kDayEnd - kDayStart) * (double(k) + rng.uniform()) / double(K);
                 const glm::vec3 d(sunDirection(hours));
@@ -720,7 +730,7 @@ private:
         const std::uint32_t M = std::uint32_t(settings_.roomSamples);
         sc.rays.resize(M);
         sc.hits.resize(M);
-        Rng rng(streamSeed(settings_.seed, kRoomPass, w0.receiver, w0.slot));
+        Rng rng(streamSeed(settings_.seed, kRoomPass, state_[w0.receiver].key, w0.slot));
         for (std::uint32_t j = 0; j < M; ++j) {
             const double pick = total * (double(j) + rng.uniform()) / double(M);
             const std::size_t k = std::min<std::size_t>(

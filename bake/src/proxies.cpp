@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -227,14 +228,17 @@ std::vector<ProxyBox> streetProxies(const std::string& cityJson, const std::stri
     try {
         const nlohmann::json j = nlohmann::json::parse(cityJson);
         if (!j.contains("streets")) return out;
+        // A world's tile (city.json "origin") is in its own frame: plan (x, y) -> (x - ox, oy - y).
+        const auto o = j.contains("origin") ? j["origin"].get<std::array<double, 2>>() : std::array<double, 2>{0.0, 0.0};
+        const glm::dvec2 origin(o[0], -o[1]);
         for (const nlohmann::json& s : j["streets"]) {
             const std::string name = format("street_{}", s.at("id").get<int>());
             const double width = s.at("width").get<double>();
             const auto& line = s.at("polyline");
             for (std::size_t i = 0; i + 1 < line.size(); ++i) {
                 // plan (x, y) -> glTF (x, z = -y)
-                const glm::dvec2 a(line[i][0].get<double>(), -line[i][1].get<double>());
-                const glm::dvec2 b(line[i + 1][0].get<double>(), -line[i + 1][1].get<double>());
+                const glm::dvec2 a = glm::dvec2(line[i][0].get<double>(), -line[i][1].get<double>()) - origin;
+                const glm::dvec2 b = glm::dvec2(line[i + 1][0].get<double>(), -line[i + 1][1].get<double>()) - origin;
                 const double length = glm::distance(a, b);
                 if (length <= 1e-9) continue;
                 PlanBox plan;

@@ -1204,11 +1204,22 @@ void joinStairs(Building& b) {
 
 }  // namespace
 
+namespace {
+
+double drawSetback(const CityRecipe& recipe, Rng& rng) { return recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter; }
+
+}  // namespace
+
+bool lotHoldsBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
+    Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
+    return baseOutline(lot, recipe, drawSetback(recipe, rng)).has_value();
+}
+
 Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed) {
     Building b;
     b.id = b.lot = lot.id;
     Rng rng(deriveSeed(seed, "building", static_cast<std::uint64_t>(lot.id)));
-    const double setback = recipe.lots.setback + rng.uniform() * recipe.lots.setbackJitter;
+    const double setback = drawSetback(recipe, rng);
     const std::optional<WallOutline> base = baseOutline(lot, recipe, setback);
     if (!base) return b;
     const Polygon2& footprint = base->footprint;

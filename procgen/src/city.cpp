@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -227,6 +228,12 @@ struct SharedMeshes {
     std::int32_t lamp = -1;
 };
 
+// Moves a mesh made in plan coordinates to the frame whose origin is the plan point `origin`.
+void shiftPositions(Mesh& mesh, glm::dvec2 origin) {
+    if (origin == glm::dvec2(0.0)) return;
+    for (glm::vec3& p : mesh.positions) p = glm::vec3(float(double(p.x) - origin.x), p.y, float(double(p.z) + origin.y));
+}
+
 std::uint32_t addNode(Scene& scene, std::uint32_t parent, Node node) {
     const auto index = static_cast<std::uint32_t>(scene.nodes.size());
     scene.nodes.push_back(std::move(node));
@@ -238,6 +245,7 @@ std::uint32_t addNode(Scene& scene, std::uint32_t parent, Node node) {
 // and lamps, under the tile's node.
 void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std::uint32_t tileNode, SharedMeshes& shared) {
     const Dressing& d = city.dressing;
+    const glm::dvec2 origin = city.settings.origin;
     const auto sharedMesh = [&](const Mesh& mesh) {
         scene.meshes.push_back(mesh);
         return std::int32_t(scene.meshes.size() - 1);
@@ -258,7 +266,7 @@ void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std:
             n.translation = e.translation;
             n.rotation = e.rotation;
             if (e.parent < 0) {
-                n.translation = toWorld(tree.foot, tree.height);
+                n.translation = toWorld(tree.foot - origin, tree.height);
                 // Stood up as speciesNodes stands the trunk (+X onto +Y), then turned.
                 n.rotation = glm::angleAxis(float(tree.yaw), glm::vec3(0, 1, 0)) *
                              glm::angleAxis(float(0.5 * std::numbers::pi), glm::vec3(0, 0, 1)) * e.rotation;
@@ -274,7 +282,7 @@ void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std:
         Node n;
         n.name = entityName("lamp", lamp.id);
         n.mesh = shared.lamp;
-        n.translation = toWorld(lamp.foot, lamp.height);
+        n.translation = toWorld(lamp.foot - origin, lamp.height);
         n.rotation = glm::angleAxis(float(lamp.yaw), glm::vec3(0, 1, 0));
         addNode(scene, tileNode, std::move(n));
     }
@@ -285,6 +293,15 @@ void addDressingNodes(Scene& scene, const City& city, const CityTile& tile, std:
 glm::ivec2 tileCount(const CitySettings& s) {
     return {std::max(1, static_cast<int>(std::ceil(s.size.x / s.tileSize - 1e-9))),
             std::max(1, static_cast<int>(std::ceil(s.size.y / s.tileSize - 1e-9)))};
+}
+
+glm::dvec2 tileCorner(const CitySettings& s, glm::ivec2 tile) { return glm::dvec2(tile) * s.tileSize; }
+
+bool lotNearTile(const CitySettings& s, glm::ivec2 tile, const Lot& lot, double metres) {
+    const glm::dvec2 lo = tileCorner(s, tile) - metres, hi = tileCorner(s, tile) + s.tileSize + metres;
+    glm::dvec2 a(std::numeric_limits<double>::max()), b(std::numeric_limits<double>::lowest());
+    for (glm::dvec2 p : lot.polygon) a = glm::min(a, p), b = glm::max(b, p);
+    return a.x <= hi.x && a.y <= hi.y && b.x >= lo.x && b.y >= lo.y;
 }
 
 glm::ivec2 tileOf(const CitySettings& s, glm::dvec2 p) {
@@ -316,16 +333,23 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
                          [&](double f) { return progress(0.1 * f); });
     report(0.1);
 
-    for (int j = 0; j < count.y; ++j)
-        for (int i = 0; i < count.x; ++i)
-            if (!settings.tile || *settings.tile == glm::ivec2(i, j)) {
-                city.tiles.emplace_back();
-                city.tiles.back().index = {i, j};
-            }
-    // Where tile t sits in city.tiles (row by row), or -1 when it is not generated.
+    // The generated tiles: all, or `tile` and those within `tileReach` of it, row by row.
+    glm::ivec2 lo(0), hi = count - 1;
+    const double halo = settings.tile ? std::max(0.0, settings.halo) : 0.0;
+    if (settings.tile) {
+        const glm::dvec2 corner = tileCorner(settings, *settings.tile);
+        lo = halo > 0.0 ? tileOf(settings, corner - halo) : *settings.tile;
+        hi = halo > 0.0 ? tileOf(settings, corner + settings.tileSize + halo) : *settings.tile;
+    }
+    for (int j = lo.y; j <= hi.y; ++j)
+        for (int i = lo.x; i <= hi.x; ++i) {
+            city.tiles.emplace_back();
+            city.tiles.back().index = {i, j};
+        }
+    // Where tile t sits in city.tiles, or -1 when it is not generated.
     auto tileSlot = [&](glm::ivec2 t) -> int {
-        if (settings.tile) return t == *settings.tile ? 0 : -1;
-        return t.y * count.x + t.x;
+        if (t.x < lo.x || t.y < lo.y || t.x > hi.x || t.y > hi.y) return -1;
+        return (t.y - lo.y) * (hi.x - lo.x + 1) + (t.x - lo.x);
     };
     for (const Block& block : city.plan.blocks) {
         const int slot = tileSlot(tileOf(settings, centroid(block.curb)));
@@ -333,8 +357,11 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     }
     // The lots of the generated tiles, in lot order.
     std::vector<const Lot*> lots;
-    for (const Lot& lot : city.plan.lots)
-        if (tileSlot(tileOf(settings, centroid(lot.polygon))) >= 0) lots.push_back(&lot);
+    for (const Lot& lot : city.plan.lots) {
+        const glm::ivec2 owner = tileOf(settings, centroid(lot.polygon));
+        const bool owned = !settings.tile || owner == *settings.tile;
+        if (tileSlot(owner) >= 0 && (owned || (halo > 0.0 && lotNearTile(settings, *settings.tile, lot, halo)))) lots.push_back(&lot);
+    }
     std::vector<Building> built(lots.size());
     std::atomic<std::size_t> done{0};
     std::mutex progressMutex;
@@ -395,6 +422,7 @@ std::string cityReportJson(const City& city) {
     const glm::ivec2 count = tileCount(s);
     j["tiles"] = {count.x, count.y};
     j["tile"] = s.tile ? Json::array({s.tile->x, s.tile->y}) : Json(nullptr);
+    if (s.origin != glm::dvec2(0.0)) j["origin"] = {s.origin.x, s.origin.y};
     j["recipe"] = Json::parse(recipeJson(s.recipe));
 
     const CityCounts counts = countCity(city);
@@ -485,6 +513,7 @@ Scene takeCityScene(City& city) {
         scene.roots.push_back(tileNode);
         auto addChild = [&](std::uint32_t parent, Node child) { return addNode(scene, parent, std::move(child)); };
         auto meshNode = [&](Mesh mesh) {
+            shiftPositions(mesh, city.settings.origin);
             Node n;
             n.name = mesh.name;
             n.mesh = static_cast<std::int32_t>(scene.meshes.size());

@@ -79,8 +79,17 @@ std::vector<StreetLamp> parseStreetLamps(const std::string& cityJson, const std:
     if (!root.is_object() || !root.contains("lamps")) return {};
     const Json& list = root["lamps"];
     if (!list.is_array()) fail(file, "\"lamps\" must be an array of {\"light\": [x, y, h], \"colour\": [r, g, b], ...}");
+    // A world's tile (ARCHITECTURE.md 4.5, "origin") has city.glb in its own frame.
+    glm::dvec3 origin(0.0);
+    if (root.contains("origin")) {
+        const std::vector<double> o = numbers(root["origin"], 2, file, "origin");
+        origin = glm::dvec3(o[0], 0.0, -o[1]);
+    }
     std::vector<StreetLamp> lamps;
-    for (std::size_t i = 0; i < list.size(); ++i) lamps.push_back(readLamp(list[i], file, format("lamps[{}]", i)));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        lamps.push_back(readLamp(list[i], file, format("lamps[{}]", i)));
+        lamps.back().position -= origin;
+    }
     return lamps;
 }
 

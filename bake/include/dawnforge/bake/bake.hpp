@@ -10,12 +10,14 @@
 #include <dawnforge/bake/lighting.hpp>
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/import.hpp>
 #include <dawnforge/core/progress.hpp>
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace dawnforge::bake {
 
@@ -62,6 +64,22 @@ struct BakeReport {
 // folder, a bad proxy_colours.json, or settings out of range; BakeBudgetError when the texel
 // size needs more than the memory budget.
 BakeReport bakeCity(const std::filesystem::path& cityDir, const BakeSettings& settings, const ProgressFn& progress = {});
+
+// A tile of a world and its halo (world/, the bake stage), in the tile's frame: the tile's
+// receivers are baked and written; the halo's are baked too, so that their light bounces onto
+// the tile, and traced against, but not written. A receiver's result depends on its name and
+// its surroundings, not on what else is baked, so a tile's buildings match a whole bake.
+struct BakeRegion {
+    std::vector<MeshNode> nodes;          // city.glb's nodes with world matrices, the tile's and the halo's
+    std::vector<bool> halo;               // per node: in the halo (not written)
+    std::string regionCityJson;           // city.json of the tile with its halo: its street lamps all light
+    std::string cityJson;                 // the tile's city.json (its streets become proxies)
+    std::vector<std::byte> cityGlb;       // the tile's city.glb as written, which bake.json binds to
+};
+
+// Writes CITY_DIR/bake/ for `region` as bakeCity writes it for a city folder.
+BakeReport bakeRegion(const BakeRegion& region, const std::filesystem::path& cityDir, const BakeSettings& settings,
+                      const ProgressFn& progress = {});
 
 // Throws InputError naming the setting when `settings` is out of range.
 void checkBakeSettings(const BakeSettings& settings);

@@ -92,5 +92,7 @@ Mesh partMesh(const Mesh& lod0, const BuildingPart& part);
 // The building on `lot`, or std::nullopt-like empty building (floors == 0) when the lot
 // cannot hold one (too small once set back). Deterministic in (lot, recipe, seed).
 Building buildBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed);
+// Whether buildBuilding() puts a building on `lot`, without building it (a world's plan).
+bool lotHoldsBuilding(const Lot& lot, const CityRecipe& recipe, std::uint64_t seed);
 
 }  // namespace dawnforge::procgen

@@ -30,6 +30,9 @@ struct CitySettings {
     glm::dvec2 size{500.0, 500.0};       // metres, x by y
     double tileSize = 250.0;
     std::optional<glm::ivec2> tile;      // generate this tile only
+    double halo = 0.0;                   // with `tile`: also the buildings of other tiles whose lot comes within
+                                         // this many metres of it, and those tiles' ground (a world bake's halo)
+    glm::dvec2 origin{0.0};              // plan point at city.glb's origin: a world's tile is tile-local
 };
 
 struct CityTile {
@@ -54,6 +57,12 @@ glm::ivec2 tileCount(const CitySettings& settings);
 // The tile holding plan point p (clamped to the city).
 glm::ivec2 tileOf(const CitySettings& settings, glm::dvec2 p);
 
+// The tile's south-west corner in plan metres.
+glm::dvec2 tileCorner(const CitySettings& settings, glm::ivec2 tile);
+
+// Whether `lot`'s bounding box comes within `metres` of tile `tile`'s square.
+bool lotNearTile(const CitySettings& settings, glm::ivec2 tile, const Lot& lot, double metres);
+
 // Throws InputError for a bad size, tile size or tile index, or a bad recipe.
 City generateCity(const CitySettings& settings, const ProgressFn& progress = noProgress);
 
@@ -74,7 +83,8 @@ std::string cityReportJson(const City& city);
 // one node per building ("building_NNNNN") whose children show its LOD0 and LOD1 meshes
 // ("building_NNNNN_lod0", "..._lod1"), one node hierarchy per tree ("tree_NNNNN", the trunk,
 // and "tree_NNNNN_<element>" below it, sharing its species' meshes) and one node per lamp
-// ("lamp_NNNNN", sharing the mesh "lamp"). Moves the meshes out of `city`.
+// ("lamp_NNNNN", sharing the mesh "lamp"). Positions are relative to `settings.origin` (the
+// plan point (x, y) at height h is (x - origin.x, h, origin.y - y)). Moves the meshes out of `city`.
 Scene takeCityScene(City& city);
 
 }  // namespace dawnforge::procgen
