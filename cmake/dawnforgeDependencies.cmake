@@ -50,6 +50,7 @@ dawnforge_find_dependency(Bullet 3.24)              # sim: rigid bodies (FindBul
 dawnforge_find_dependency(Eigen3 3.3 NO_MODULE)     # sim: the bond graph's sparse solve
 dawnforge_find_dependency(OpenEXR 3.1)              # exporters: VAT textures; bake: overlook.exr
 dawnforge_find_dependency(embree 3.13)              # bake: ray queries (Embree 3)
+dawnforge_find_dependency(meshoptimizer 0.18)       # world: HLOD simplification
 dawnforge_find_dependency(glfw3 3.3)                # runtime: the window
 dawnforge_find_dependency(OpenGL COMPONENTS EGL)    # runtime: the headless context
 dawnforge_find_pkg_config(epoxy epoxy>=1.5)         # runtime: GL function loading

@@ -26,5 +26,6 @@ Command addRender(CLI::App& app, CommonOptions& common);
 Command addView(CLI::App& app, CommonOptions& common);
 Command addBake(CLI::App& app, CommonOptions& common);
 Command addPivots(CLI::App& app, CommonOptions& common);
+Command addWorld(CLI::App& app, CommonOptions& common);
 
 }  // namespace dawnforge::cli

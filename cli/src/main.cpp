@@ -21,7 +21,8 @@ std::vector<cli::Command> addCommands(CLI::App& app, cli::CommonOptions& common)
                                        cli::addSimulate(app, common), cli::addVat(app, common),
                                        cli::addCity(app, common),     cli::addDemo(app, common),
                                        cli::addRender(app, common),   cli::addView(app, common),
-                                       cli::addBake(app, common),     cli::addPivots(app, common)};
+                                       cli::addBake(app, common),     cli::addPivots(app, common),
+                                       cli::addWorld(app, common)};
     return commands;
 }
 

@@ -1,0 +1,130 @@
+// DIR/tileset.json: OGC 3D Tiles 1.1 over the world's tiles and HLOD nodes (ARCHITECTURE.md 9.4).
+#include "jobs.hpp"
+
+#include <dawnforge/core/atomic_file.hpp>
+#include <dawnforge/core/format.hpp>
+#include <dawnforge/core/import.hpp>
+#include <dawnforge/core/read_file.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+
+namespace dawnforge::world {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// An axis-aligned box in a frame's 3D Tiles axes (x east, y north, z up).
+struct Box {
+    glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{std::numeric_limits<double>::lowest()};
+    bool empty() const { return lo.x > hi.x; }
+    void add(glm::dvec3 p) { lo = glm::min(lo, p), hi = glm::max(hi, p); }
+    void add(const Box& b, glm::dvec3 offset) {
+        if (!b.empty()) add(b.lo + offset), add(b.hi + offset);
+    }
+};
+
+// The bounds of a GLB's meshes, turned from glTF's y-up axes to 3D Tiles' z-up ones.
+Box glbBounds(const fs::path& file) {
+    Box box;
+    for (const MeshNode& n : loadMeshNodes(file))
+        for (const glm::vec3& p : n.mesh.positions) {
+            const glm::vec4 w = n.world * glm::vec4(p, 1.0f);
+            box.add({w.x, -w.z, w.y});
+        }
+    return box;
+}
+
+Json boxJson(const Box& b) {
+    const glm::dvec3 c = 0.5 * (b.lo + b.hi), h = glm::max(0.5 * (b.hi - b.lo), glm::dvec3(0.01));
+    return {{"box", {c.x, c.y, c.z, h.x, 0.0, 0.0, 0.0, h.y, 0.0, 0.0, 0.0, h.z}}};
+}
+
+Json translation(glm::dvec2 d) { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, d.x, d.y, 0, 1}; }
+
+struct Built {
+    Json tile;
+    Box box;            // in the parent's frame... here: in the tile's own frame
+    glm::dvec2 origin;  // plan point of the tile's frame
+    double error = 0.0;
+};
+
+Built leafTile(const fs::path& worldDir, const WorldPlan& plan, const WorldTile& t) {
+    const std::string dir = "tiles/" + tileName(t.index);
+    Built b;
+    b.origin = glm::dvec2(t.index) * plan.settings.tileSize;
+    b.box = glbBounds(worldDir / dir / "city.glb");
+    Json extras{{"tile", {t.index.x, t.index.y}}, {"origin", {b.origin.x, b.origin.y}}, {"city", dir + "/city.json"},
+                {"bake", fs::exists(worldDir / dir / "bake" / "bake.json") ? Json(dir + "/bake/bake.json") : Json(nullptr)},
+                {"buildings", t.buildings.size()}};
+    b.tile = {{"boundingVolume", boxJson(b.box)}, {"geometricError", 0.0}, {"content", {{"uri", dir + "/city.glb"}}},
+              {"extras", std::move(extras)}};
+    return b;
+}
+
+// A node of the quadtree with its children (or the tiles, at level 1); a node whose HLOD was not
+// built passes its children up. Returns the tiles to hang under the parent.
+std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, int level, glm::ivec2 index) {
+    std::vector<Built> children;
+    if (level == 0) {
+        if (index.x < plan.tileCount.x && index.y < plan.tileCount.y &&
+            fs::exists(worldDir / "tiles" / tileName(index) / "city.glb"))
+            children.push_back(leafTile(worldDir, plan, findTile(plan, index)));
+        return children;
+    }
+    for (int k = 0; k < 4; ++k) {
+        std::vector<Built> c = nodeTiles(worldDir, plan, level - 1, index * 2 + glm::ivec2(k % 2, k / 2));
+        std::move(c.begin(), c.end(), std::back_inserter(children));
+    }
+    const std::string name = format("{}_{}_{}", level, index.x, index.y);
+    const fs::path glb = worldDir / "hlod" / (name + ".glb");
+    if (children.empty() || !fs::exists(glb)) return children;
+    Built b;
+    b.origin = glm::dvec2(index * (1 << level)) * plan.settings.tileSize;
+    b.box = glbBounds(glb);
+    const Json info = Json::parse(readTextFile(worldDir / "hlod" / (name + ".json")));
+    b.error = info.at("geometric_error").get<double>();
+    Json kids = Json::array();
+    for (Built& c : children) {
+        const glm::dvec2 d = c.origin - b.origin;
+        b.box.add(c.box, {d.x, d.y, 0.0});
+        c.tile["transform"] = translation(d);
+        kids.push_back(std::move(c.tile));
+    }
+    b.tile = {{"boundingVolume", boxJson(b.box)}, {"geometricError", b.error}, {"refine", "REPLACE"},
+              {"content", {{"uri", "hlod/" + name + ".glb"}}},
+              {"extras", {{"hlod", name}, {"level", level}, {"origin", {b.origin.x, b.origin.y}}, {"triangles", info.at("triangles")}}},
+              {"children", std::move(kids)}};
+    return {std::move(b)};
+}
+
+}  // namespace
+
+void writeTileset(const fs::path& worldDir, const WorldPlan& plan) {
+    std::vector<Built> top = nodeTiles(worldDir, plan, plan.hlodLevels, {0, 0});
+    // The root: the world's frame (plan origin), holding what the quadtree gives.
+    Box box;
+    double error = 0.0;
+    Json children = Json::array();
+    for (Built& c : top) {
+        box.add(c.box, {c.origin.x, c.origin.y, 0.0});
+        error = std::max(error, c.error);
+        c.tile["transform"] = translation(c.origin);
+        children.push_back(std::move(c.tile));
+    }
+    if (box.empty()) box.add(glm::dvec3(0.0));
+    const double rootError = std::max(2.0 * error, plan.settings.tileSize / 4.0);
+    Json root{{"boundingVolume", boxJson(box)}, {"geometricError", rootError}, {"refine", "REPLACE"}, {"children", std::move(children)}};
+    Json j{{"asset", {{"version", "1.1"}, {"generator", "dawnforge world build"}}},
+           {"geometricError", 2.0 * rootError},
+           {"root", std::move(root)},
+           {"extras", {{"plan", "plan.json"}, {"coordinates", "x east, y north, z up, metres from the plan's origin"},
+                       {"tiles", plan.tileCount.x * plan.tileCount.y}, {"hlod_levels", plan.hlodLevels}}}};
+    writeFileAtomically(worldDir / "tileset.json", j.dump(1) + "\n");
+}
+
+}  // namespace dawnforge::world
