@@ -158,11 +158,14 @@ TEST(Lighting, LampsFollowTheirFalloffAndStopAtWalls) {
     EXPECT_EQ(lampIrradiance({0, 2, 0}, {0, 0, 0}, {0, -1, 0}), 0.0);           // facing away
     EXPECT_EQ(lampIrradiance({0, 0, 9}, {0, 0, 0}, {0, 0, 1}), 0.0);            // beyond kLampRange
     EXPECT_EQ(lampIrradiance({0, 0, 0}, {0, 1, 0}, {0, -1, 0}), 0.0);           // above its own height
-    // A wall between a lamp and a floor: the floor behind it stays dark.
+    // A wall between a lamp and a floor: the floor behind it stays dark. The wall is 20 cm thick
+    // (two faces and a top): the two faces of a wall of no thickness coincide, and which one a
+    // ray meets first is then up to the rays' rounding.
     test::ReceiverBuilder r;
     r.quad({-4, 0, -4}, {8, 0, 0}, {0, 0, 8}, {0, 1, 0}, 0.5f);
-    r.quad({0, 0, -4}, {0, 3, 0}, {0, 0, 8}, {-1, 0, 0}, 0.5f);
-    r.quad({0, 0, -4}, {0, 3, 0}, {0, 0, 8}, {1, 0, 0}, 0.5f);
+    r.quad({-0.1f, 0, -4}, {0, 3, 0}, {0, 0, 8}, {-1, 0, 0}, 0.5f);
+    r.quad({0.1f, 0, -4}, {0, 3, 0}, {0, 0, 8}, {1, 0, 0}, 0.5f);
+    r.quad({-0.1f, 3, -4}, {0.2f, 0, 0}, {0, 0, 8}, {0, 1, 0}, 0.5f);
     LightingSettings settings;
     settings.samples = 16;
     settings.bounces = 0;

@@ -101,6 +101,14 @@ TEST(CliWorld, BuildsTheCityTileByTileWithAManifest) {
         EXPECT_EQ(t["transform"].size(), 16u);
     }
     test::expectValidGltf(w / "hlod" / "1_0_0.glb");
+    // A public 3D Tiles reader (tools/tiles-reader: 3d-tiles-renderer) loads it: from afar the
+    // HLOD root, at street level the tile's city.glb, each where its box says.
+    const fs::path reader = fs::path(DAWNFORGE_SOURCE_DIR) / "tools" / "tiles-reader";
+    if (std::string(DAWNFORGE_NODE).empty() || !fs::exists(reader / "node_modules" / "3d-tiles-renderer"))
+        GTEST_SKIP() << "the 3D Tiles reader is not installed (./run installs it: npm ci in tools/tiles-reader)";
+    const RunResult tiles = test::run(DAWNFORGE_NODE, {(reader / "check.mjs").string(), w.string(), "--tile", "all"});
+    EXPECT_EQ(tiles.exitCode, 0) << tiles.out << tiles.err;
+    EXPECT_TRUE(test::contains(tiles.out, "hlod/1_0_0.glb")) << tiles.out;
     const nlohmann::json info = readJson(w / "hlod" / "1_0_0.json");
     EXPECT_LT(info["triangles"].get<double>(), 0.5 * info["source_triangles"].get<double>());
 }
@@ -149,6 +157,32 @@ TEST(CliWorld, AFailedTileIsNamedAndTheRestIsKept) {
     ASSERT_EQ(again.exitCode, 0) << again.err;
     EXPECT_TRUE(test::contains(again.out, "3 already done, 1 run")) << again.out;
     EXPECT_TRUE(fs::exists(dir / "w" / "tileset.json"));
+}
+
+// `--destroy 1`: one building per tile chosen by the plan is fractured in its tile's city,
+// collapsed and baked into VATs for the three presets, on the farm like the rest.
+TEST(CliWorld, DestroysThePlannedBuildingsInTheirTiles) {
+    if (DAWNFORGE_SANITIZED) GTEST_SKIP() << "fracture, simulate and vat run under the sanitizers in CliBuilding.*";
+    TempDir dir;
+    std::vector<std::string> args{"--size", "128x128", "--tile-size", "128", "--seed", "5", "--destroy", "1"};
+    ASSERT_EQ(plan(dir / "w", args).exitCode, 0);
+    const nlohmann::json p = readJson(dir / "w" / "plan.json");
+    ASSERT_EQ(p["destroy"].size(), 1u);
+    const int id = p["destroy"][0]["building"].get<int>();
+    const RunResult r = build(dir / "w", {"--stages", "city,destroy"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    char name[32];
+    std::snprintf(name, sizeof name, "building_%05d", id);
+    const fs::path out = dir / "w" / "destroy" / name;
+    const nlohmann::json sim = readJson(out / "sim" / "sim.json");
+    EXPECT_GT(sim["pieces"].get<int>(), 10);
+    EXPECT_EQ(sim["frames"].get<int>(), 120);
+    for (const char* preset : {"native", "unreal", "unity"})
+        for (const char* file : {"_pos.exr", "_rot.exr", "_mesh.glb", "_data.json"})
+            EXPECT_TRUE(fs::exists(out / "vat" / preset / (std::string(name) + file))) << preset << file;
+    const nlohmann::json record = readJson(dir / "w" / "jobs" / "destroy" / "0.json");
+    EXPECT_GT(record["files"].size(), 15u);
+    EXPECT_TRUE(test::contains(build(dir / "w", {"--stages", "city,destroy"}).out, "1 already done, 0 run"));
 }
 
 // The same world built by Slurm job arrays on a one-node cluster that the test starts

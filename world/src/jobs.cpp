@@ -214,7 +214,7 @@ void runCommand(const std::vector<std::string>& argv) {
 // destroy/building_NNNNN/: the building fractured by material in its tile's city, collapsed
 // (every bond breaks at the trigger) and baked into VATs for the runtime and both engines.
 std::vector<std::string> destroyJob(const fs::path& worldDir, const DestroyJob& job, const fs::path& exe) {
-    const std::string name = format("building_{:05}", job.building);
+    const std::string name = buildingName(job.building);
     const fs::path target = worldDir / "destroy" / name;
     ensureOutputDirectory(worldDir / "destroy");
     Scratch scratch(target);
@@ -234,7 +234,7 @@ std::vector<std::string> stageJobs(const WorldPlan& plan, const std::string& sta
     if (stage == "city" || stage == "bake")
         for (const WorldTile& t : plan.tiles) jobs.push_back(tileName(t.index));
     else if (stage == "destroy")
-        for (const DestroyJob& d : plan.destroy) jobs.push_back(format("building_{:05}", d.building));
+        for (const DestroyJob& d : plan.destroy) jobs.push_back(buildingName(d.building));
     else if (stage.starts_with("hlod"))
         for (const HlodNode& n : plan.hlod)
             if (format("hlod{}", n.level) == stage) jobs.push_back(hlodName(n));

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -135,6 +136,12 @@ Json ivec(glm::ivec2 v) { return Json::array({v.x, v.y}); }
 std::string tileName(glm::ivec2 t) { return format("{}_{}", t.x, t.y); }
 std::string hlodName(const HlodNode& n) { return format("{}_{}_{}", n.level, n.index.x, n.index.y); }
 
+std::string buildingName(int id) {
+    char text[32];
+    std::snprintf(text, sizeof text, "building_%05d", id);
+    return text;
+}
+
 const WorldTile& findTile(const WorldPlan& plan, glm::ivec2 tile) {
     DAWNFORGE_ASSERT(tile.x >= 0 && tile.y >= 0 && tile.x < plan.tileCount.x && tile.y < plan.tileCount.y, "findTile(): no such tile");
     return plan.tiles[std::size_t(tile.y * plan.tileCount.x + tile.x)];
@@ -217,7 +224,7 @@ std::string planJson(const WorldPlan& plan) {
         jobs[format("hlod{}", level)] = std::move(list);
     }
     Json destroyJobs = Json::array();
-    for (const DestroyJob& d : plan.destroy) destroyJobs.push_back(format("building_{:05}", d.building));
+    for (const DestroyJob& d : plan.destroy) destroyJobs.push_back(buildingName(d.building));
     jobs["destroy"] = std::move(destroyJobs);
     j["jobs"] = std::move(jobs);
     return j.dump(1) + "\n";

@@ -117,10 +117,12 @@ void writeTileset(const fs::path& worldDir, const WorldPlan& plan) {
         children.push_back(std::move(c.tile));
     }
     if (box.empty()) box.add(glm::dvec3(0.0));
-    const double rootError = std::max(2.0 * error, plan.settings.tileSize / 4.0);
+    // The root has no content: drawn alone it loses the whole world, so its error is the
+    // world's extent, and a reader refines it at any distance.
+    const double rootError = std::max(glm::length(box.hi - box.lo), 2.0 * error);
     Json root{{"boundingVolume", boxJson(box)}, {"geometricError", rootError}, {"refine", "REPLACE"}, {"children", std::move(children)}};
     Json j{{"asset", {{"version", "1.1"}, {"generator", "dawnforge world build"}}},
-           {"geometricError", 2.0 * rootError},
+           {"geometricError", rootError},
            {"root", std::move(root)},
            {"extras", {{"plan", "plan.json"}, {"coordinates", "x east, y north, z up, metres from the plan's origin"},
                        {"tiles", plan.tileCount.x * plan.tileCount.y}, {"hlod_levels", plan.hlodLevels}}}};

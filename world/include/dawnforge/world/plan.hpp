@@ -71,6 +71,7 @@ procgen::CitySettings tileCitySettings(const WorldPlan& plan, glm::ivec2 tile, d
 
 std::string tileName(glm::ivec2 tile);                 // "I_J"
 std::string hlodName(const HlodNode& node);            // "L_X_Y"
+std::string buildingName(int id);                      // "building_NNNNN", as city.glb names it
 const WorldTile& findTile(const WorldPlan& plan, glm::ivec2 tile);  // asserts that it exists
 
 // plan.json (ARCHITECTURE.md 9.2), and reading it back: readPlan throws InputError naming the
