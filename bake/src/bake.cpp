@@ -65,6 +65,7 @@ struct CityStatic {
 };
 
 struct CityInput {
+    double haloTexelScale = 1.0;  // halo receivers' texels are this many times as large
     std::vector<CityBuilding> buildings;
     std::vector<CityStatic> statics;
     std::vector<glm::vec3> streetLamps;  // city.json's lamps' lights, glTF axes
@@ -296,13 +297,22 @@ void addStreetLamps(std::span<const glm::vec3> streetLamps, Receivers& out) {
         }
 }
 
+// The settings of a halo receiver: texels `scale` times as large. A halo only bounces light
+// onto its tile and shades it; a coarser lightmap does that as well for a fraction of the work.
+BakeSettings haloSettings(BakeSettings s, double scale) {
+    s.texel *= scale, s.interiorTexel *= scale, s.groundTexel *= scale;
+    return s;
+}
+
 Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
+    const BakeSettings halo = haloSettings(settings, city.haloTexelScale);
     Receivers out;
     out.data.resize(city.buildings.size() + city.statics.size());
     std::vector<std::vector<Lamp>> lamps(city.buildings.size());
     std::vector<std::vector<RoomWindow>> windows(city.buildings.size());
     tbb::parallel_for(std::size_t{0}, city.buildings.size(), [&](std::size_t bi) {
-        buildingReceiver(city.buildings[bi], std::uint32_t(bi), settings, out.data[bi], lamps[bi], windows[bi]);
+        const CityBuilding& b = city.buildings[bi];
+        buildingReceiver(b, std::uint32_t(bi), b.halo ? halo : settings, out.data[bi], lamps[bi], windows[bi]);
     });
     for (std::size_t bi = 0; bi < city.buildings.size(); ++bi) {
         out.lamps.insert(out.lamps.end(), lamps[bi].begin(), lamps[bi].end());
@@ -315,7 +325,8 @@ Receivers cityReceivers(const CityInput& city, const BakeSettings& settings) {
         r.name = s.name;
         r.kind = s.name.starts_with("ground_") ? "ground" : "mesh";
         r.meshes.emplace_back(s.name, s.mesh.vertexCount());
-        appendMesh(r, s.mesh, float(settings.groundTexel), float(settings.groundTexel), true, kSurfaceOffset);
+        const float texel = float((s.halo ? halo : settings).groundTexel);
+        appendMesh(r, s.mesh, texel, texel, true, kSurfaceOffset);
     });
     addStreetLamps(city.streetLamps, out);
     return out;
@@ -621,7 +632,10 @@ BakeReport bakeRegion(const BakeRegion& region, const std::filesystem::path& cit
     const auto start = Clock::now();
     checkBakeSettings(settings);
     DAWNFORGE_ASSERT(region.halo.size() == region.nodes.size(), "bakeRegion(): one halo flag per node");
+    if (!(region.haloTexelScale >= 1.0 && region.haloTexelScale <= 64.0))
+        throw InputError(format("the halo's texel scale must be 1 to 64 (got {})", region.haloTexelScale));
     CityInput city;
+    city.haloTexelScale = region.haloTexelScale;
     city.glb = region.cityGlb;
     city.cityJson = region.cityJson;
     try {

@@ -142,6 +142,8 @@ void addPlanOptions(CLI::App& cmd, WorldOptions& o) {
     cmd.add_option("--bake-ground-texel", s.bake.groundTexel, "Bake: metres per texel on the ground")->check(CLI::Range(0.05, 50.0))->capture_default_str();
     cmd.add_option("--bake-samples", s.bake.samples, "Bake: rays per texel per pass")->check(CLI::Range(1, 65536))->capture_default_str();
     cmd.add_option("--bake-bounces", s.bake.bounces, "Bake: bounces")->check(CLI::Range(0, 16))->capture_default_str();
+    cmd.add_option("--bake-halo-texel-scale", s.haloTexelScale, "Bake: the halo's texels (lit, not written) are this many times as large")
+        ->check(CLI::Range(1.0, 64.0))->capture_default_str();
     cmd.add_option("--bake-memory-budget", s.bake.memoryBudgetMb, "Bake: the most memory one tile's bake may need (MB)")
         ->check(CLI::Range(64.0, 1.0e7))->capture_default_str();
 }

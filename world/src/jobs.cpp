@@ -129,6 +129,7 @@ std::vector<std::string> bakeJob(const fs::path& worldDir, const WorldPlan& plan
     region.nodes = sceneNodes(scene, roots);
     const std::string own = "tile_" + tileName(tile);
     for (const std::string& r : roots) region.halo.push_back(r != own);
+    region.haloTexelScale = plan.settings.haloTexelScale;
     const bake::BakeReport report = bake::bakeRegion(region, dir, plan.settings.bake);
     std::printf("baked tile %s: %zu buildings, %zu receivers, %zu texels, about %.0f MB, %.1f s (lighting %.1f s)\n",
                 tileName(tile).c_str(), report.buildings, report.receivers, report.texels, report.estimatedMb, report.seconds,

@@ -41,6 +41,8 @@ void checkSettings(const WorldSettings& s) {
         throw InputError(format("--tile-size: {} m makes {} tiles, more than {}: choose larger tiles", s.tileSize, tiles, kMaxTiles));
     if (!std::isfinite(s.halo) || s.halo < 0.0 || s.halo > std::max(s.size.x, s.size.y))
         throw InputError(format("--halo: must be 0 to the world's size, {} m (got {})", std::max(s.size.x, s.size.y), s.halo));
+    if (!(s.haloTexelScale >= 1.0 && s.haloTexelScale <= 64.0))
+        throw InputError(format("--bake-halo-texel-scale: must be 1 to 64 (got {})", s.haloTexelScale));
     if (s.destroyPerTile < 0 || s.destroyPerTile > 1000)
         throw InputError(format("--destroy: must be 0 to 1000 buildings per tile (got {})", s.destroyPerTile));
 }
@@ -191,7 +193,8 @@ std::string planJson(const WorldPlan& plan) {
     const bake::BakeSettings& b = s.bake;
     j["bake"] = {{"texel", b.texel},       {"interior_texel", b.interiorTexel}, {"ground_texel", b.groundTexel},
                  {"samples", b.samples},   {"sun_samples", b.sunSamples},        {"bounces", b.bounces},
-                 {"ao_radius", b.aoRadius}, {"memory_budget", b.memoryBudgetMb}, {"seed", b.seed}};
+                 {"ao_radius", b.aoRadius}, {"memory_budget", b.memoryBudgetMb}, {"seed", b.seed},
+                 {"halo_texel_scale", s.haloTexelScale}};
     Json tiles = Json::array();
     for (const WorldTile& t : plan.tiles) {
         Json halo{{"tiles", Json::array()}, {"buildings", t.haloBuildings}};
@@ -254,6 +257,7 @@ WorldPlan parsePlan(const Json& j, const std::string& source) {
     s.bake.aoRadius = b.at("ao_radius").get<double>();
     s.bake.memoryBudgetMb = b.at("memory_budget").get<double>();
     s.bake.seed = b.at("seed").get<std::uint64_t>();
+    s.haloTexelScale = b.at("halo_texel_scale").get<double>();
     checkSettings(s);
     bake::checkBakeSettings(s.bake);
     plan.tileCount = procgen::tileCount(citySettings(s));

@@ -75,6 +75,7 @@ struct BakeRegion {
     std::string regionCityJson;           // city.json of the tile with its halo: its street lamps all light
     std::string cityJson;                 // the tile's city.json (its streets become proxies)
     std::vector<std::byte> cityGlb;       // the tile's city.glb as written, which bake.json binds to
+    double haloTexelScale = 4.0;          // the halo's lightmaps: texels this many times as large (1 to 64)
 };
 
 // Writes CITY_DIR/bake/ for `region` as bakeCity writes it for a city folder.

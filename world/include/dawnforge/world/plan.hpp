@@ -27,6 +27,7 @@ struct WorldSettings {
     int destroyPerTile = 0;           // buildings per tile to fracture, simulate and bake into VATs
     std::vector<int> destroy;         // or these buildings (ids)
     bake::BakeSettings bake;          // every tile's bake
+    double haloTexelScale = 4.0;      // the halo's lightmaps (lit, not written): texels this many times as large
 };
 
 struct WorldTile {
