@@ -99,7 +99,9 @@ int runBuild(WorldOptions& o, const CommonOptions& common) {
     });
     std::size_t failures = 0;
     for (const world::StageReport& s : report.stages) {
-        std::printf("%-8s %zu jobs: %zu already done, %zu run, %zu failed\n", s.stage.c_str(), s.jobs, s.skipped, s.ran, s.failed.size());
+        std::printf("%-8s %zu jobs: %zu already done, %zu run, %zu failed", s.stage.c_str(), s.jobs, s.skipped, s.ran, s.failed.size());
+        if (s.left > 0) std::printf(", %zu left (tiles they need are not built)", s.left);
+        std::printf("\n");
         for (const std::string& f : s.failed)
             std::fprintf(stderr, "dawnforge: error: world build: the %s job of %s failed (its log is in %s)\n", s.stage.c_str(), f.c_str(),
                          (o.dir / "logs").string().c_str());
@@ -121,7 +123,7 @@ int runWorldJob(WorldOptions& o, const CommonOptions& common) {
         if (const char* cpus = std::getenv("SLURM_CPUS_PER_TASK")) threads = std::max(0, std::atoi(cpus));
     std::optional<tbb::global_control> limit;
     if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-    world::runJob(o.dir, o.stage, o.task, selfExecutable());
+    world::runJob(o.dir, o.stage, o.task, threads, selfExecutable());
     return 0;
 }
 
@@ -157,7 +159,8 @@ void addBuildOptions(CLI::App& cmd, WorldOptions& o) {
     cmd.add_option("--stages", o.stages, "Stages to run, separated by commas")->capture_default_str();
     cmd.add_option("--only", o.only, "Only this tile I,J (repeat for more); HLOD nodes and destroyed buildings over them");
     cmd.add_option("--partition", b.partition, "slurm: the partition (default: the cluster's)");
-    cmd.add_option("--mem", b.memoryMb, "slurm: memory per job (MB)")->check(CLI::Range(256, 10000000))->capture_default_str();
+    cmd.add_option("--mem", b.memoryMb, "slurm: memory per job in MB (0: the plan's bake budget + 512)")
+        ->check(CLI::Range(0, 10000000))->capture_default_str();
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <tuple>
 #include <map>
 #include <mutex>
 #include <numbers>
@@ -297,6 +298,12 @@ glm::ivec2 tileCount(const CitySettings& s) {
 
 glm::dvec2 tileCorner(const CitySettings& s, glm::ivec2 tile) { return glm::dvec2(tile) * s.tileSize; }
 
+std::pair<glm::ivec2, glm::ivec2> haloTiles(const CitySettings& s, glm::ivec2 tile, double metres) {
+    if (!(metres > 0.0)) return {tile, tile};
+    const glm::dvec2 corner = tileCorner(s, tile);
+    return {tileOf(s, corner - metres), tileOf(s, corner + s.tileSize + metres)};
+}
+
 bool lotNearTile(const CitySettings& s, glm::ivec2 tile, const Lot& lot, double metres) {
     const glm::dvec2 lo = tileCorner(s, tile) - metres, hi = tileCorner(s, tile) + s.tileSize + metres;
     glm::dvec2 a(std::numeric_limits<double>::max()), b(std::numeric_limits<double>::lowest());
@@ -336,11 +343,7 @@ City generateCity(const CitySettings& settings, const ProgressFn& progress) {
     // The generated tiles: all, or `tile` and those within `tileReach` of it, row by row.
     glm::ivec2 lo(0), hi = count - 1;
     const double halo = settings.tile ? std::max(0.0, settings.halo) : 0.0;
-    if (settings.tile) {
-        const glm::dvec2 corner = tileCorner(settings, *settings.tile);
-        lo = halo > 0.0 ? tileOf(settings, corner - halo) : *settings.tile;
-        hi = halo > 0.0 ? tileOf(settings, corner + settings.tileSize + halo) : *settings.tile;
-    }
+    if (settings.tile) std::tie(lo, hi) = haloTiles(settings, *settings.tile, halo);
     for (int j = lo.y; j <= hi.y; ++j)
         for (int i = lo.x; i <= hi.x; ++i) {
             city.tiles.emplace_back();

@@ -138,6 +138,33 @@ TEST(CliWorld, ARerunRedoesOnlyWhatIsMissingAndAnInterruptedBuildEndsTheSame) {
     expectSameFiles(dir / "a", dir / "b");
 }
 
+// A record counts only with the plan and the inputs it was made from: an HLOD built before the
+// bake is built again once the bake is there, a new plan in the same folder builds everything
+// again, and a second build of a folder whose lock is held is refused.
+TEST(CliWorld, AChangedPlanOrInputBuildsWhatDependsOnItAgain) {
+    TempDir dir;
+    ASSERT_EQ(plan(dir / "w", smallWorld()).exitCode, 0);
+    ASSERT_EQ(build(dir / "w", {"--stages", "city,hlod"}).exitCode, 0);
+    const std::vector<unsigned char> unlit = test::readBytes(dir / "w" / "hlod" / "1_0_0.glb");
+    RunResult r = build(dir / "w", {"--stages", "bake,hlod"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::contains(r.out, "hlod1    1 jobs: 0 already done, 1 run")) << r.out;
+    EXPECT_NE(test::readBytes(dir / "w" / "hlod" / "1_0_0.glb"), unlit);  // the bake folded in
+
+    std::vector<std::string> other = smallWorld();
+    other[5] = "6";  // --seed 6
+    ASSERT_EQ(plan(dir / "w", other).exitCode, 0);
+    r = build(dir / "w", {"--stages", "city"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::contains(r.out, "0 already done, 4 run")) << r.out;
+
+    const RunResult held = test::run("/usr/bin/flock", {(dir / "w" / ".build.lock").string(), DAWNFORGE_EXE, "-q", "world", "build",
+                                                        (dir / "w").string(), "--stages", "city"});
+    EXPECT_EQ(held.exitCode, 2) << held.err;
+    EXPECT_TRUE(test::contains(held.err, "still run")) << held.err;
+    EXPECT_EQ(test::lineCount(held.err), 1u) << held.err;
+}
+
 // One tile's job fails: the others finish and are kept, the line names the tile, exit 1; the
 // same command afterwards finishes the world.
 TEST(CliWorld, AFailedTileIsNamedAndTheRestIsKept) {

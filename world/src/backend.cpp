@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <chrono>
 #include <cstring>
 #include <system_error>
@@ -108,7 +109,16 @@ void runLocal(const std::vector<StageJobs>& stages, const BackendContext& ctx) {
     PollTimer timer(ctx);
     // Stage by stage: a later stage's first task starts once the earlier stage's last one ended.
     for (const StageJobs& stage : stages) {
-        std::vector<pid_t> running;
+        // If starting a job or the progress throws, the jobs already started end with us.
+        struct Running {
+            std::vector<pid_t> pids;
+            ~Running() {
+                for (pid_t pid : pids) ::kill(pid, SIGTERM);
+                for (pid_t pid : pids)
+                    while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {}
+            }
+        } jobs;
+        std::vector<pid_t>& running = jobs.pids;
         std::size_t next = 0;
         while (next < stage.tasks.size() || !running.empty()) {
             while (running.size() < workers && next < stage.tasks.size())

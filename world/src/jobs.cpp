@@ -214,14 +214,15 @@ void runCommand(const std::vector<std::string>& argv) {
 
 // destroy/building_NNNNN/: the building fractured by material in its tile's city, collapsed
 // (every bond breaks at the trigger) and baked into VATs for the runtime and both engines.
-std::vector<std::string> destroyJob(const fs::path& worldDir, const DestroyJob& job, const fs::path& exe) {
+std::vector<std::string> destroyJob(const fs::path& worldDir, const DestroyJob& job, int threads, const fs::path& exe) {
     const std::string name = buildingName(job.building);
     const fs::path target = worldDir / "destroy" / name;
     ensureOutputDirectory(worldDir / "destroy");
     Scratch scratch(target);
-    const std::string e = exe.string(), d = scratch.dir.string();
-    runCommand({e, "fracture", (worldDir / tileDir(job.tile)).string(), "--building", std::to_string(job.building), "-o", d + "/fracture"});
-    runCommand({e, "simulate", d + "/fracture", "-o", d + "/sim", "--collapse"});
+    const std::string e = exe.string(), d = scratch.dir.string(), t = std::to_string(threads);
+    runCommand({e, "fracture", (worldDir / tileDir(job.tile)).string(), "--building", std::to_string(job.building), "-o",
+                d + "/fracture", "--threads", t});
+    runCommand({e, "simulate", d + "/fracture", "-o", d + "/sim", "--collapse", "--threads", t});
     for (const char* preset : {"native", "unreal", "unity"})
         runCommand({e, "vat", d + "/sim", "-o", d + "/vat/" + preset, "--preset", preset, "--name", name});
     replace(scratch.dir, target);
@@ -254,13 +255,13 @@ std::vector<std::string> expandStages(const WorldPlan& plan, const std::vector<s
 }
 
 std::vector<std::string> runStageJob(const fs::path& worldDir, const WorldPlan& plan, const std::string& stage, int task,
-                                     const fs::path& executable) {
+                                     int threads, const fs::path& executable) {
     const std::vector<std::string> jobs = stageJobs(plan, stage);
     if (task < 0 || std::size_t(task) >= jobs.size())
         throw InputError(format("--task {}: stage \"{}\" has {} jobs in this plan", task, stage, jobs.size()));
     if (stage == "city") return cityJob(worldDir, plan, tileOfTask(plan, task));
     if (stage == "bake") return bakeJob(worldDir, plan, tileOfTask(plan, task));
-    if (stage == "destroy") return destroyJob(worldDir, plan.destroy[std::size_t(task)], executable);
+    if (stage == "destroy") return destroyJob(worldDir, plan.destroy[std::size_t(task)], threads, executable);
     std::vector<const HlodNode*> nodes;
     for (const HlodNode& n : plan.hlod)
         if (format("hlod{}", n.level) == stage) nodes.push_back(&n);

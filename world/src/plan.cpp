@@ -73,12 +73,16 @@ void assignBuildings(WorldPlan& plan, const procgen::CityPlan& city, const Progr
         const glm::ivec2 owner = procgen::tileOf(cs, procgen::centroid(lot.polygon));
         plan.tiles[std::size_t(owner.y * plan.tileCount.x + owner.x)].buildings.push_back(lot.id);
         if (halo <= 0.0) continue;
-        const glm::ivec2 lo = procgen::tileOf(cs, procgen::tileCorner(cs, owner) - cs.tileSize - halo);
-        const glm::ivec2 hi = procgen::tileOf(cs, procgen::tileCorner(cs, owner) + 2.0 * cs.tileSize + halo);
+        // The tiles whose halo generation holds the owner (as generateCity decides it).
+        const int reach = int(std::ceil(halo / cs.tileSize)) + 1;
+        const glm::ivec2 lo = glm::max(owner - reach, glm::ivec2(0)), hi = glm::min(owner + reach, plan.tileCount - 1);
         for (int j = lo.y; j <= hi.y; ++j)
-            for (int i = lo.x; i <= hi.x; ++i)
-                if (glm::ivec2(i, j) != owner && procgen::lotNearTile(cs, {i, j}, lot, halo))
+            for (int i = lo.x; i <= hi.x; ++i) {
+                const auto [first, last] = procgen::haloTiles(cs, {i, j}, halo);
+                const bool generated = glm::all(glm::greaterThanEqual(owner, first)) && glm::all(glm::lessThanEqual(owner, last));
+                if (glm::ivec2(i, j) != owner && generated && procgen::lotNearTile(cs, {i, j}, lot, halo))
                     plan.tiles[std::size_t(j * plan.tileCount.x + i)].haloBuildings.push_back(lot.id);
+            }
     }
 }
 
@@ -86,9 +90,7 @@ void planHalos(WorldPlan& plan) {
     const procgen::CitySettings cs = citySettings(plan.settings);
     if (plan.settings.halo <= 0.0) return;
     for (WorldTile& t : plan.tiles) {
-        const glm::dvec2 corner = procgen::tileCorner(cs, t.index);
-        const glm::ivec2 lo = procgen::tileOf(cs, corner - plan.settings.halo);
-        const glm::ivec2 hi = procgen::tileOf(cs, corner + cs.tileSize + plan.settings.halo);
+        const auto [lo, hi] = procgen::haloTiles(cs, t.index, plan.settings.halo);
         for (int j = lo.y; j <= hi.y; ++j)
             for (int i = lo.x; i <= hi.x; ++i)
                 if (glm::ivec2(i, j) != t.index) t.haloTiles.emplace_back(i, j);

@@ -38,24 +38,59 @@ fs::path recordPath(const fs::path& worldDir, const std::string& stage, int task
     return worldDir / "jobs" / stage / format("{}.json", task);
 }
 
+std::string planHash(const fs::path& worldDir) {
+    return bake::hashText(bake::hashFileBytes(readBinaryFile(worldDir / "plan.json")));
+}
+
+std::vector<std::pair<std::string, int>> jobInputs(const WorldPlan& plan, const std::string& stage, int task) {
+    std::vector<std::pair<std::string, int>> inputs;
+    const auto tileTask = [&](glm::ivec2 t) { return t.y * plan.tileCount.x + t.x; };
+    if (stage == "destroy") inputs.emplace_back("city", tileTask(plan.destroy[std::size_t(task)].tile));
+    if (!stage.starts_with("hlod")) return inputs;
+    std::vector<const HlodNode*> level, below;
+    for (const HlodNode& n : plan.hlod) {
+        if (format("hlod{}", n.level) == stage) level.push_back(&n);
+        if (format("hlod{}", n.level + 1) == stage) below.push_back(&n);
+    }
+    const HlodNode& node = *level[std::size_t(task)];
+    if (node.level == 1)
+        for (glm::ivec2 t : node.tiles) inputs.emplace_back("city", tileTask(t)), inputs.emplace_back("bake", tileTask(t));
+    for (std::size_t k = 0; k < below.size(); ++k)
+        if (below[k]->index / 2 == node.index) inputs.emplace_back(format("hlod{}", node.level - 1), int(k));
+    return inputs;
+}
+
+Stamp jobStamp(const fs::path& worldDir, const WorldPlan& plan, const std::string& hash, const std::string& stage, int task) {
+    Stamp stamp{hash, ""};
+    std::error_code ec;
+    for (const auto& [s, k] : jobInputs(plan, stage, task)) {
+        const fs::path record = recordPath(worldDir, s, k);
+        stamp.inputs += fs::is_regular_file(record, ec) ? bake::hashText(bake::hashFileBytes(readBinaryFile(record))) : "-";
+        stamp.inputs += " ";
+    }
+    return stamp;
+}
+
 void writeRecord(const fs::path& worldDir, const std::string& stage, int task, const std::string& job,
-                 const std::vector<std::string>& outputs) {
+                 const std::vector<std::string>& outputs, const Stamp& stamp) {
     nlohmann::ordered_json files = nlohmann::ordered_json::array();
     for (const std::string& f : filesOf(worldDir, outputs)) {
         const std::vector<std::byte> bytes = readBinaryFile(worldDir / f);
         files.push_back({{"path", f}, {"bytes", bytes.size()}, {"hash", bake::hashText(bake::hashFileBytes(bytes))}});
     }
-    const nlohmann::ordered_json j{{"stage", stage}, {"task", task}, {"job", job}, {"files", std::move(files)}};
+    const nlohmann::ordered_json j{{"stage", stage}, {"task", task},       {"job", job},
+                                   {"plan", stamp.plan}, {"inputs", stamp.inputs}, {"files", std::move(files)}};
     ensureOutputDirectory(recordPath(worldDir, stage, task).parent_path());
     writeFileAtomically(recordPath(worldDir, stage, task), j.dump(1) + "\n");
 }
 
-bool jobFinished(const fs::path& worldDir, const std::string& stage, int task) {
+bool jobFinished(const fs::path& worldDir, const std::string& stage, int task, const Stamp& stamp) {
     const fs::path record = recordPath(worldDir, stage, task);
     std::error_code ec;
     if (!fs::is_regular_file(record, ec)) return false;
     try {
         const nlohmann::json j = nlohmann::json::parse(readTextFile(record));
+        if (j.at("plan").get<std::string>() != stamp.plan || j.at("inputs").get<std::string>() != stamp.inputs) return false;
         for (const nlohmann::json& f : j.at("files")) {
             const fs::path p = worldDir / f.at("path").get<std::string>();
             if (!fs::is_regular_file(p, ec) || fs::file_size(p, ec) != f.at("bytes").get<std::uintmax_t>()) return false;

@@ -68,21 +68,34 @@ Built leafTile(const fs::path& worldDir, const WorldPlan& plan, const WorldTile&
 
 // A node of the quadtree with its children (or the tiles, at level 1); a node whose HLOD was not
 // built passes its children up. Returns the tiles to hang under the parent.
-std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, int level, glm::ivec2 index) {
+using Finished = std::function<bool(const std::string& stage, int task)>;
+
+// The task of HLOD node (level, index) in its stage, or -1 when the plan has no such node.
+int hlodTask(const WorldPlan& plan, int level, glm::ivec2 index) {
+    int k = 0;
+    for (const HlodNode& n : plan.hlod)
+        if (n.level == level) {
+            if (n.index == index) return k;
+            ++k;
+        }
+    return -1;
+}
+
+std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, const Finished& finished, int level, glm::ivec2 index) {
     std::vector<Built> children;
     if (level == 0) {
-        if (index.x < plan.tileCount.x && index.y < plan.tileCount.y &&
-            fs::exists(worldDir / "tiles" / tileName(index) / "city.glb"))
+        if (index.x < plan.tileCount.x && index.y < plan.tileCount.y && finished("city", index.y * plan.tileCount.x + index.x))
             children.push_back(leafTile(worldDir, plan, findTile(plan, index)));
         return children;
     }
     for (int k = 0; k < 4; ++k) {
-        std::vector<Built> c = nodeTiles(worldDir, plan, level - 1, index * 2 + glm::ivec2(k % 2, k / 2));
+        std::vector<Built> c = nodeTiles(worldDir, plan, finished, level - 1, index * 2 + glm::ivec2(k % 2, k / 2));
         std::move(c.begin(), c.end(), std::back_inserter(children));
     }
     const std::string name = format("{}_{}_{}", level, index.x, index.y);
     const fs::path glb = worldDir / "hlod" / (name + ".glb");
-    if (children.empty() || !fs::exists(glb)) return children;
+    const int task = hlodTask(plan, level, index);
+    if (children.empty() || task < 0 || !finished(format("hlod{}", level), task)) return children;
     Built b;
     b.origin = glm::dvec2(index * (1 << level)) * plan.settings.tileSize;
     b.box = glbBounds(glb);
@@ -104,8 +117,8 @@ std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, in
 
 }  // namespace
 
-void writeTileset(const fs::path& worldDir, const WorldPlan& plan) {
-    std::vector<Built> top = nodeTiles(worldDir, plan, plan.hlodLevels, {0, 0});
+void writeTileset(const fs::path& worldDir, const WorldPlan& plan, const Finished& finished) {
+    std::vector<Built> top = nodeTiles(worldDir, plan, finished, plan.hlodLevels, {0, 0});
     // The root: the world's frame (plan origin), holding what the quadtree gives.
     Box box;
     double error = 0.0;

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dawnforge::procgen {
@@ -59,6 +60,10 @@ glm::ivec2 tileOf(const CitySettings& settings, glm::dvec2 p);
 
 // The tile's south-west corner in plan metres.
 glm::dvec2 tileCorner(const CitySettings& settings, glm::ivec2 tile);
+
+// The first and last tile (inclusive) that tile `tile` generates with a halo of `metres`: those
+// its square grown by `metres` reaches, or the tile alone for no halo.
+std::pair<glm::ivec2, glm::ivec2> haloTiles(const CitySettings& settings, glm::ivec2 tile, double metres);
 
 // Whether `lot`'s bounding box comes within `metres` of tile `tile`'s square.
 bool lotNearTile(const CitySettings& settings, glm::ivec2 tile, const Lot& lot, double metres);

@@ -21,13 +21,13 @@ struct BuildSettings {
     std::vector<std::string> stages{"city", "bake", "hlod", "destroy"};
     std::vector<glm::ivec2> only;    // tiles to build (empty: all); HLOD nodes and destroyed buildings over them
     std::string partition;           // slurm: --partition (empty: the default)
-    int memoryMb = 4096;             // slurm: --mem per job; each job keeps the bake within this budget
+    int memoryMb = 0;                // slurm: --mem per job (0: the plan's bake budget + 512 MB)
     std::filesystem::path executable;  // the dawnforge executable that runs the jobs
 };
 
 struct StageReport {
     std::string stage;
-    std::size_t jobs = 0, skipped = 0, ran = 0;
+    std::size_t jobs = 0, skipped = 0, left = 0, ran = 0;  // left: --only, and their inputs are not built
     std::vector<std::string> failed;  // the failed jobs' names ("tile 1_0", "hlod 1_0_0", "building 00042")
 };
 
@@ -46,9 +46,9 @@ BuildReport buildWorld(const std::filesystem::path& worldDir, const BuildSetting
                        const BuildProgress& progress = {});
 
 // Runs task `task` of `stage` (a job's process: `dawnforge world job`). Throws InputError for a
-// task that is not in the plan, and whatever the stage throws. `executable` runs the destroy
-// stage's commands.
-void runJob(const std::filesystem::path& worldDir, const std::string& stage, int task,
+// stage or task that is not in the plan, and whatever the stage throws. `executable` runs the
+// destroy stage's commands, with `threads` (0: all cores).
+void runJob(const std::filesystem::path& worldDir, const std::string& stage, int task, int threads,
             const std::filesystem::path& executable);
 
 }  // namespace dawnforge::world
