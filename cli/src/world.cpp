@@ -143,6 +143,7 @@ void addPlanOptions(CLI::App& cmd, WorldOptions& o) {
     cmd.add_option("--bake-interior-texel", s.bake.interiorTexel, "Bake: metres per texel in rooms")->check(CLI::Range(0.01, 10.0))->capture_default_str();
     cmd.add_option("--bake-ground-texel", s.bake.groundTexel, "Bake: metres per texel on the ground")->check(CLI::Range(0.05, 50.0))->capture_default_str();
     cmd.add_option("--bake-samples", s.bake.samples, "Bake: rays per texel per pass")->check(CLI::Range(1, 65536))->capture_default_str();
+    cmd.add_option("--bake-sun-samples", s.bake.sunSamples, "Bake: sun positions per texel")->check(CLI::Range(1, 4096))->capture_default_str();
     cmd.add_option("--bake-bounces", s.bake.bounces, "Bake: bounces")->check(CLI::Range(0, 16))->capture_default_str();
     cmd.add_option("--bake-halo-texel-scale", s.haloTexelScale, "Bake: the halo's texels (lit, not written) are this many times as large")
         ->check(CLI::Range(1.0, 64.0))->capture_default_str();
@@ -154,7 +155,7 @@ void addBuildOptions(CLI::App& cmd, WorldOptions& o) {
     world::BuildSettings& b = o.build;
     cmd.add_option("DIR", o.dir, "A world folder written by dawnforge world plan")->required();
     cmd.add_option("--backend", b.backend, "Where the jobs run: local (this machine) or slurm (sbatch job arrays)")->capture_default_str();
-    cmd.add_option("--jobs", b.jobs, "local: jobs at once (0: one per core)")->capture_default_str();
+    cmd.add_option("--jobs", b.jobs, "local: jobs at once (0: one per core, no more than the memory holds bakes)")->capture_default_str();
     cmd.add_option("--threads-per-job", b.threadsPerJob, "Cores per job (0: the cores / --jobs; slurm: 1)")->check(CLI::Range(0, 1024))->capture_default_str();
     cmd.add_option("--stages", o.stages, "Stages to run, separated by commas")->capture_default_str();
     cmd.add_option("--only", o.only, "Only this tile I,J (repeat for more); HLOD nodes and destroyed buildings over them");

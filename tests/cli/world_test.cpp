@@ -22,8 +22,8 @@ using test::RunResult;
 using test::TempDir;
 
 // A small world that bakes in seconds: 2 × 2 tiles of 128 m.
-const std::vector<std::string> kQuickBake{"--bake-texel", "1", "--bake-interior-texel", "2", "--bake-ground-texel", "4",
-                                          "--bake-samples", "4", "--bake-bounces", "1"};
+const std::vector<std::string> kQuickBake{"--bake-texel", "2", "--bake-interior-texel", "4", "--bake-ground-texel", "8",
+                                          "--bake-samples", "2", "--bake-sun-samples", "2", "--bake-bounces", "1"};
 
 RunResult plan(const fs::path& dir, std::vector<std::string> extra) {
     std::vector<std::string> args{"-q", "world", "plan", dir.string()};
@@ -130,9 +130,10 @@ TEST(CliWorld, ARerunRedoesOnlyWhatIsMissingAndAnInterruptedBuildEndsTheSame) {
 
     // Kill the whole build (its jobs too) a few seconds in, then build again.
     const RunResult killed = test::run("/bin/bash", {"-c", "setsid \"$0\" -q world build \"$1\" --stages city,bake,hlod & p=$!; "
-                                                          "sleep 4; kill -KILL -- -$p; wait; exit 0",
+                                                          "sleep 2; kill -KILL -- -$p; wait; exit 0",
                                                      DAWNFORGE_EXE, (dir / "b").string()});
     ASSERT_EQ(killed.exitCode, 0) << killed.err;
+    ASSERT_FALSE(fs::exists(dir / "b" / "tileset.json")) << "the build ended before it was killed: kill it sooner";
     const RunResult finished = build(dir / "b", {"--stages", "city,bake,hlod"});
     ASSERT_EQ(finished.exitCode, 0) << finished.err;
     expectSameFiles(dir / "a", dir / "b");

@@ -1,7 +1,8 @@
 // HLOD meshes (world/src/hlod.hpp): a tile's far content (LOD1 shells, ground, trunks and crown
 // cards, no lamps) with its bake folded into TEXCOORD_1/2, and meshoptimizer's simplification
 // of merged children: about the asked ratio, a small error in metres, materials never mixed,
-// locked borders that still meet their neighbour's, the same bytes on every run.
+// locked borders that still meet their neighbour's, the same bytes on every run; and the second
+// pass of the higher levels: the ratio still met, open borders moved no farther than its error.
 #include "hlod.hpp"
 #include "test_support.hpp"
 
@@ -20,10 +21,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace dawnforge::world {
 namespace {
@@ -316,6 +319,123 @@ TEST(Hlod, MergedNeighboursWeldAndSimplifyAcrossTheirSharedEdge) {
     EXPECT_LT(pointsOnLine(both.mesh, 10.0f).size(), 21u);
     EXPECT_EQ(pointsOnLine(both.mesh, 0.0f), pointsOnLine(west, 0.0f));
     EXPECT_EQ(pointsOnLine(both.mesh, 20.0f), pointsOnLine(east, 20.0f));
+}
+
+// The mesh moved by `by`, as moveFrame moves a child into its parent's frame.
+Mesh movedBy(Mesh m, glm::vec3 by) {
+    for (glm::vec3& p : m.positions) p += by;
+    return m;
+}
+
+// A node's four children: `child` and copies of it one `size` east, north and north-east
+// (glTF z is minus plan north).
+std::vector<Mesh> fourChildren(const Mesh& child, float size) {
+    return {child, movedBy(child, {size, 0.0f, 0.0f}), movedBy(child, {0.0f, 0.0f, -size}),
+            movedBy(child, {size, 0.0f, -size})};
+}
+
+// What a vertex carries besides its position (the bake aside: the fixture has none).
+using Attributes = std::tuple<float, float, float, float, float, int>;
+Attributes attributesOf(const Mesh& m, std::size_t v) {
+    const glm::vec3& n = m.normals[v];
+    return {n.x, n.y, n.z, m.uv0[v].x, m.uv0[v].y, m.materialIds[v]};
+}
+
+// Levels 2 and 3 as hlodJob builds them from copies of the tile: their children are simplified
+// already, flat-shaded shells and ground that meshopt_simplify alone barely reduces (it keeps
+// 0.46 and 0.95 of the triangles here); the second pass takes every level to the ratio.
+TEST(Hlod, HigherLevelsReachTheRatioWithoutMixingMaterials) {
+    const HlodSettings settings;
+    HlodMesh node = simplifyHlod({source()}, settings);
+    float size = 100.0f;  // the fixture's tile
+    for (int level = 2; level <= 3; ++level, size *= 2.0f) {
+        const std::vector<Mesh> children = fourChildren(node.mesh, size);
+        node = simplifyHlod(children, settings);
+        std::size_t in = 0;
+        std::set<Attributes> attributes;
+        std::set<std::tuple<float, float, float>> positions;
+        Bounds box = computeBounds(children.front().positions);
+        for (const Mesh& c : children) {
+            in += c.triangleCount();
+            for (std::size_t v = 0; v < c.vertexCount(); ++v) {
+                attributes.insert(attributesOf(c, v));
+                positions.insert({c.positions[v].x, c.positions[v].y, c.positions[v].z});
+            }
+            const Bounds b = computeBounds(c.positions);
+            box = {glm::min(box.min, b.min), glm::max(box.max, b.max)};
+        }
+        const double kept = double(node.mesh.triangleCount()) / double(in);
+        EXPECT_NEAR(kept, settings.ratio, 0.1 * settings.ratio) << level;
+        validateMeshData(node.mesh, "hlod");
+        // Every vertex is an input vertex moved to an input position; no triangle mixes materials.
+        for (std::size_t v = 0; v < node.mesh.vertexCount(); ++v) {
+            const glm::vec3& p = node.mesh.positions[v];
+            ASSERT_TRUE(attributes.count(attributesOf(node.mesh, v))) << level << " vertex " << v;
+            ASSERT_TRUE(positions.count({p.x, p.y, p.z})) << level << " vertex " << v;
+        }
+        bool mixed = false;
+        for (std::size_t t = 0; t < node.mesh.triangleCount(); ++t) {
+            materialOfTriangle(node.mesh, t, mixed);
+            ASSERT_FALSE(mixed) << level << " triangle " << t;
+        }
+        const double extent = std::max({box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z});
+        EXPECT_TRUE(std::isfinite(node.error)) << level;
+        EXPECT_GT(node.error, 0.0) << level;
+        EXPECT_LT(node.error, 0.02 * extent) << level;
+        const HlodMesh again = simplifyHlod(children, settings);
+        EXPECT_EQ(again.mesh.indices, node.mesh.indices) << level;
+        EXPECT_EQ(again.mesh.positions, node.mesh.positions) << level;
+        EXPECT_EQ(again.mesh.normals, node.mesh.normals) << level;
+        EXPECT_EQ(again.mesh.uv0, node.mesh.uv0) << level;
+        EXPECT_EQ(again.mesh.uv1, node.mesh.uv1) << level;
+        EXPECT_EQ(again.mesh.uv2, node.mesh.uv2) << level;
+        EXPECT_EQ(again.mesh.materialIds, node.mesh.materialIds) << level;
+        EXPECT_EQ(again.error, node.error) << level;
+    }
+}
+
+// heightGrid flat-shaded: every triangle with three vertices of its own, its face's normal.
+// Each point has six wedges: meshopt_simplify locks them all.
+Mesh flatShaded(const Mesh& smooth) {
+    Mesh m;
+    for (std::size_t t = 0; t < smooth.triangleCount(); ++t) {
+        const std::uint32_t* i = &smooth.indices[3 * t];
+        const glm::vec3 &a = smooth.positions[i[0]], &b = smooth.positions[i[1]], &c = smooth.positions[i[2]];
+        for (int k = 0; k < 3; ++k) {
+            m.indices.push_back(std::uint32_t(m.positions.size()));
+            m.positions.push_back(smooth.positions[i[k]]);
+            m.normals.push_back(glm::normalize(glm::cross(b - a, c - a)));
+            m.uv0.push_back(smooth.uv0[i[k]]);
+            m.materialIds.push_back(smooth.materialIds[i[k]]);
+        }
+    }
+    return m;
+}
+
+// The distance from p to the nearest vertex of m.
+float nearestVertex(const Mesh& m, glm::vec3 p) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (const glm::vec3& q : m.positions) nearest = std::min(nearest, glm::distance(p, q));
+    return nearest;
+}
+
+// The second pass does not lock open borders, but moves none of their points farther than its
+// error: neighbours simplified apart meet within the sum of their errors.
+TEST(Hlod, SecondPassMovesOpenBordersByNoMoreThanItsError) {
+    const Mesh west = flatShaded(heightGrid(0.0f)), east = flatShaded(heightGrid(10.0f));
+    HlodSettings settings;
+    settings.ratio = 0.2;
+    const HlodMesh w = simplifyHlod({west}, settings), e = simplifyHlod({east}, settings);
+    for (const HlodMesh* h : {&w, &e}) {
+        const double kept = double(h->mesh.triangleCount()) / double(west.triangleCount());
+        EXPECT_NEAR(kept, settings.ratio, 0.1 * settings.ratio);
+        EXPECT_GT(h->error, 0.0);
+        EXPECT_LT(h->error, 1.0);  // under a tenth of the grid's width: it rolls gently
+    }
+    for (const auto& [x, y, z] : pointsOnLine(west, 10.0f)) {
+        EXPECT_LE(nearestVertex(w.mesh, {x, y, z}), w.error) << x << " " << y << " " << z;
+        EXPECT_LE(nearestVertex(e.mesh, {x, y, z}), e.error) << x << " " << y << " " << z;
+    }
 }
 
 TEST(Hlod, EmptyInputGivesAnEmptyMesh) {

@@ -3,7 +3,10 @@
 // merges the content of its (up to) four tiles, a level-L node the meshes of its four level
 // L-1 children; each merged mesh is simplified with meshoptimizer (meshopt_simplify, open
 // borders locked so that neighbouring nodes still meet), and its geometric error is the
-// simplifier's own error, in metres, plus the largest of its children's.
+// simplifier's own error, in metres, plus the largest of its children's. Where meshopt_simplify
+// stops short of the ratio (flat-shaded shells and ground lock most of their vertices: from
+// level 2 up), a second pass clusters the vertices, on one octree for every material, to the
+// ratio; it does not lock open borders, but its error bounds how far an open border's point moves.
 //
 // Vertex attributes of an HLOD mesh: POSITION, NORMAL, TEXCOORD_0 (metres, atlas tiling, as
 // the city's), COLOR_0 (material id), and the bake folded in: TEXCOORD_1 = (sky, sun bounce)
@@ -24,7 +27,9 @@ struct HlodSettings {
 
 struct HlodMesh {
     Mesh mesh;
-    double error = 0.0;         // metres: the simplifier's error, in world units
+    double error = 0.0;         // metres: meshopt's error in world units, plus the second pass's
+                                // where it ran (the farthest a point on an open edge, or the plane
+                                // of a triangle, is from where the triangle's corner went)
 };
 
 // What a tile gives its level-1 HLOD node, in the frame of the tile's city.glb (positions as
@@ -35,8 +40,9 @@ struct HlodMesh {
 // Throws InputError when city.glb is missing or unreadable.
 Mesh tileHlodSource(const std::filesystem::path& tileDir);
 
-// Merges `children` (all in one frame) and simplifies the result. Degenerate triangles are
-// dropped; an empty input gives an empty mesh with error 0.
+// Merges `children` (all in one frame) and simplifies the result to about `settings.ratio`
+// of its triangles (at most 5 % above; the second pass stops at or a little under it).
+// Degenerate triangles are dropped; an empty input gives an empty mesh with error 0.
 HlodMesh simplifyHlod(const std::vector<Mesh>& children, const HlodSettings& settings = {});
 
 }  // namespace dawnforge::world
