@@ -46,10 +46,7 @@ void checkSettings(const WorldPlan& plan, const BuildSettings& s) {
 std::vector<glm::ivec2> jobTiles(const WorldPlan& plan, const std::string& stage, int task) {
     if (stage == "city" || stage == "bake") return {plan.tiles[std::size_t(task)].index};
     if (stage == "destroy") return {plan.destroy[std::size_t(task)].tile};
-    int k = 0;
-    for (const HlodNode& n : plan.hlod)
-        if (format("hlod{}", n.level) == stage && k++ == task) return n.tiles;
-    return {};
+    return hlodStageNodes(plan, stage)[std::size_t(task)]->tiles;
 }
 
 bool overOnly(const std::vector<glm::ivec2>& only, const std::vector<glm::ivec2>& tiles) {

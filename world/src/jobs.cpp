@@ -237,9 +237,8 @@ std::vector<std::string> stageJobs(const WorldPlan& plan, const std::string& sta
         for (const WorldTile& t : plan.tiles) jobs.push_back(tileName(t.index));
     else if (stage == "destroy")
         for (const DestroyJob& d : plan.destroy) jobs.push_back(buildingName(d.building));
-    else if (stage.starts_with("hlod"))
-        for (const HlodNode& n : plan.hlod)
-            if (format("hlod{}", n.level) == stage) jobs.push_back(hlodName(n));
+    else
+        for (const HlodNode* n : hlodStageNodes(plan, stage)) jobs.push_back(hlodName(*n));
     return jobs;
 }
 
@@ -249,7 +248,7 @@ std::vector<std::string> expandStages(const WorldPlan& plan, const std::vector<s
         if (std::find(stages.begin(), stages.end(), known) == stages.end()) continue;
         if (std::string(known) != "hlod") out.push_back(known);
         else
-            for (int level = 1; level <= plan.hlodLevels; ++level) out.push_back(format("hlod{}", level));
+            for (int level = 1; level <= plan.hlodLevels; ++level) out.push_back(hlodStage(level));
     }
     return out;
 }
@@ -262,10 +261,7 @@ std::vector<std::string> runStageJob(const fs::path& worldDir, const WorldPlan& 
     if (stage == "city") return cityJob(worldDir, plan, tileOfTask(plan, task));
     if (stage == "bake") return bakeJob(worldDir, plan, tileOfTask(plan, task));
     if (stage == "destroy") return destroyJob(worldDir, plan.destroy[std::size_t(task)], threads, executable);
-    std::vector<const HlodNode*> nodes;
-    for (const HlodNode& n : plan.hlod)
-        if (format("hlod{}", n.level) == stage) nodes.push_back(&n);
-    return hlodJob(worldDir, plan, *nodes[std::size_t(task)]);
+    return hlodJob(worldDir, plan, *hlodStageNodes(plan, stage)[std::size_t(task)]);
 }
 
 }  // namespace dawnforge::world

@@ -71,7 +71,7 @@ void assignBuildings(WorldPlan& plan, const procgen::CityPlan& city, const Progr
         if (!holds[k]) continue;
         const procgen::Lot& lot = city.lots[k];
         const glm::ivec2 owner = procgen::tileOf(cs, procgen::centroid(lot.polygon));
-        plan.tiles[std::size_t(owner.y * plan.tileCount.x + owner.x)].buildings.push_back(lot.id);
+        plan.tiles[std::size_t(tileTask(plan, owner))].buildings.push_back(lot.id);
         if (halo <= 0.0) continue;
         // The tiles whose halo generation holds the owner (as generateCity decides it).
         const int reach = int(std::ceil(halo / cs.tileSize)) + 1;
@@ -81,7 +81,7 @@ void assignBuildings(WorldPlan& plan, const procgen::CityPlan& city, const Progr
                 const auto [first, last] = procgen::haloTiles(cs, {i, j}, halo);
                 const bool generated = glm::all(glm::greaterThanEqual(owner, first)) && glm::all(glm::lessThanEqual(owner, last));
                 if (glm::ivec2(i, j) != owner && generated && procgen::lotNearTile(cs, {i, j}, lot, halo))
-                    plan.tiles[std::size_t(j * plan.tileCount.x + i)].haloBuildings.push_back(lot.id);
+                    plan.tiles[std::size_t(tileTask(plan, {i, j}))].haloBuildings.push_back(lot.id);
             }
     }
 }
@@ -148,7 +148,18 @@ std::string buildingName(int id) {
 
 const WorldTile& findTile(const WorldPlan& plan, glm::ivec2 tile) {
     DAWNFORGE_ASSERT(tile.x >= 0 && tile.y >= 0 && tile.x < plan.tileCount.x && tile.y < plan.tileCount.y, "findTile(): no such tile");
-    return plan.tiles[std::size_t(tile.y * plan.tileCount.x + tile.x)];
+    return plan.tiles[std::size_t(tileTask(plan, tile))];
+}
+
+int tileTask(const WorldPlan& plan, glm::ivec2 tile) { return tile.y * plan.tileCount.x + tile.x; }
+
+std::string hlodStage(int level) { return format("hlod{}", level); }
+
+std::vector<const HlodNode*> hlodStageNodes(const WorldPlan& plan, const std::string& stage) {
+    std::vector<const HlodNode*> nodes;
+    for (const HlodNode& n : plan.hlod)
+        if (hlodStage(n.level) == stage) nodes.push_back(&n);
+    return nodes;
 }
 
 WorldPlan planWorld(const WorldSettings& settings, const ProgressFn& progress) {
@@ -224,9 +235,8 @@ std::string planJson(const WorldPlan& plan) {
     jobs["bake"] = perTile;
     for (int level = 1; level <= plan.hlodLevels; ++level) {
         Json list = Json::array();
-        for (const HlodNode& n : plan.hlod)
-            if (n.level == level) list.push_back(hlodName(n));
-        jobs[format("hlod{}", level)] = std::move(list);
+        for (const HlodNode* n : hlodStageNodes(plan, hlodStage(level))) list.push_back(hlodName(*n));
+        jobs[hlodStage(level)] = std::move(list);
     }
     Json destroyJobs = Json::array();
     for (const DestroyJob& d : plan.destroy) destroyJobs.push_back(buildingName(d.building));

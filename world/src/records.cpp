@@ -44,19 +44,15 @@ std::string planHash(const fs::path& worldDir) {
 
 std::vector<std::pair<std::string, int>> jobInputs(const WorldPlan& plan, const std::string& stage, int task) {
     std::vector<std::pair<std::string, int>> inputs;
-    const auto tileTask = [&](glm::ivec2 t) { return t.y * plan.tileCount.x + t.x; };
-    if (stage == "destroy") inputs.emplace_back("city", tileTask(plan.destroy[std::size_t(task)].tile));
-    if (!stage.starts_with("hlod")) return inputs;
-    std::vector<const HlodNode*> level, below;
-    for (const HlodNode& n : plan.hlod) {
-        if (format("hlod{}", n.level) == stage) level.push_back(&n);
-        if (format("hlod{}", n.level + 1) == stage) below.push_back(&n);
-    }
+    if (stage == "destroy") inputs.emplace_back("city", tileTask(plan, plan.destroy[std::size_t(task)].tile));
+    const std::vector<const HlodNode*> level = hlodStageNodes(plan, stage);
+    if (level.empty()) return inputs;
     const HlodNode& node = *level[std::size_t(task)];
     if (node.level == 1)
-        for (glm::ivec2 t : node.tiles) inputs.emplace_back("city", tileTask(t)), inputs.emplace_back("bake", tileTask(t));
+        for (glm::ivec2 t : node.tiles) inputs.emplace_back("city", tileTask(plan, t)), inputs.emplace_back("bake", tileTask(plan, t));
+    const std::vector<const HlodNode*> below = hlodStageNodes(plan, hlodStage(node.level - 1));
     for (std::size_t k = 0; k < below.size(); ++k)
-        if (below[k]->index / 2 == node.index) inputs.emplace_back(format("hlod{}", node.level - 1), int(k));
+        if (below[k]->index / 2 == node.index) inputs.emplace_back(hlodStage(node.level - 1), int(k));
     return inputs;
 }
 

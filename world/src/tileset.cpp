@@ -72,19 +72,15 @@ using Finished = std::function<bool(const std::string& stage, int task)>;
 
 // The task of HLOD node (level, index) in its stage, or -1 when the plan has no such node.
 int hlodTask(const WorldPlan& plan, int level, glm::ivec2 index) {
-    int k = 0;
-    for (const HlodNode& n : plan.hlod)
-        if (n.level == level) {
-            if (n.index == index) return k;
-            ++k;
-        }
-    return -1;
+    const std::vector<const HlodNode*> nodes = hlodStageNodes(plan, hlodStage(level));
+    const auto it = std::find_if(nodes.begin(), nodes.end(), [&](const HlodNode* n) { return n->index == index; });
+    return it == nodes.end() ? -1 : int(it - nodes.begin());
 }
 
 std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, const Finished& finished, int level, glm::ivec2 index) {
     std::vector<Built> children;
     if (level == 0) {
-        if (index.x < plan.tileCount.x && index.y < plan.tileCount.y && finished("city", index.y * plan.tileCount.x + index.x))
+        if (index.x < plan.tileCount.x && index.y < plan.tileCount.y && finished("city", tileTask(plan, index)))
             children.push_back(leafTile(worldDir, plan, findTile(plan, index)));
         return children;
     }
@@ -95,7 +91,7 @@ std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, co
     const std::string name = format("{}_{}_{}", level, index.x, index.y);
     const fs::path glb = worldDir / "hlod" / (name + ".glb");
     const int task = hlodTask(plan, level, index);
-    if (children.empty() || task < 0 || !finished(format("hlod{}", level), task)) return children;
+    if (children.empty() || task < 0 || !finished(hlodStage(level), task)) return children;
     Built b;
     b.origin = glm::dvec2(index * (1 << level)) * plan.settings.tileSize;
     b.box = glbBounds(glb);

@@ -74,6 +74,10 @@ std::string tileName(glm::ivec2 tile);                 // "I_J"
 std::string hlodName(const HlodNode& node);            // "L_X_Y"
 std::string buildingName(int id);                      // "building_NNNNN", as city.glb names it
 const WorldTile& findTile(const WorldPlan& plan, glm::ivec2 tile);  // asserts that it exists
+int tileTask(const WorldPlan& plan, glm::ivec2 tile);  // the tile's task in the city and bake stages (row by row)
+std::string hlodStage(int level);                      // "hlodL": the stage of quadtree level L
+// The nodes of stage `stage` ("hlodL") in task order; none for another stage.
+std::vector<const HlodNode*> hlodStageNodes(const WorldPlan& plan, const std::string& stage);
 
 // plan.json (ARCHITECTURE.md 9.2), and reading it back: readPlan throws InputError naming the
 // file for a missing or malformed plan.
