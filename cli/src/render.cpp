@@ -73,6 +73,19 @@ void addProbesOptions(CLI::App& cmd, ProbeOptions& probes) {
     cmd.add_flag("--show-probes", probes.show, "Draw each probe as a small sphere lit by it (the probes' debug view)");
 }
 
+// How a world scene streams; ignored for a city.
+void addStreamingOptions(CLI::App& cmd, runtime::StreamingOptions& o) {
+    cmd.add_option("--max-screen-error", o.maxScreenError,
+                   "World: a tile refines into its children when its error on screen is larger (pixels)")
+        ->check(CLI::Range(0.5, 1000.0))->capture_default_str();
+    cmd.add_option("--resident-mb", o.residentBudgetMB, "World: GPU memory the streamed tiles may hold (MB)")
+        ->check(CLI::Range(16, 1 << 20))->capture_default_str();
+    cmd.add_option("--upload-mb", o.uploadBudgetMB, "World: bytes uploaded per frame at most (MB)")
+        ->check(CLI::Range(1, 1 << 20))->capture_default_str();
+    cmd.add_option("--stream-threads", o.workers, "World: threads that read and parse tiles")
+        ->check(CLI::Range(1, 16))->capture_default_str();
+}
+
 struct RenderOptions {
     std::filesystem::path sceneFile;
     std::filesystem::path output;
@@ -98,7 +111,9 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     if (options.output.has_parent_path()) ensureOutputDirectory(options.output.parent_path());
 
     const auto context = headlessContext();
-    runtime::Renderer renderer(scene, options.renderer);
+    runtime::RendererOptions ro = options.renderer;
+    ro.streaming.wait = true;  // one picture: its camera's selection, resident (deterministic)
+    runtime::Renderer renderer(scene, ro);
     runtime::FrameSettings frame;
     frame.camera = chooseCamera(scene, renderer, options.camera);
     frame.time = options.frame ? double(*options.frame) / scene.fps : scene.time;
@@ -110,6 +125,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     runtime::FrameStats stats = renderer.render(frame);
     exporters::Image image = renderer.readPixels(&stats);
     const runtime::ProbeStats firstProbes = stats.probes;  // the frame that captured them
+    const runtime::StreamingStats firstStreaming = stats.streaming;  // the frame that loaded the tiles
     if (options.stats) {
         // The first frame pays for shader compilation and first uploads: time the next ones,
         // pipelined for the frame time, then with a glFinish after each pass for the split.
@@ -127,6 +143,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
         stats = median(true);
         stats.frameMs = frameMs;
         stats.probes = firstProbes;
+        stats.streaming = firstStreaming;
     }
     exporters::writePng(image, options.output);
     if (options.stats)
@@ -136,6 +153,9 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     else if (!common.quiet)
         std::printf("wrote %s: %dx%d, %.1f ms per frame (%zu draw calls, %zu triangles)\n", options.output.string().c_str(),
                     size.x, size.y, stats.frameMs, stats.drawCalls, stats.triangles);
+    if (firstStreaming.on && !common.quiet && !options.stats)
+        std::printf("  streamed %d of %d tiles and HLOD nodes (%.1f MB) before drawing: %.0f ms\n", firstStreaming.drawn,
+                    firstStreaming.nodes, firstStreaming.residentMB, firstStreaming.waitMs);
     return 0;
 }
 
@@ -165,6 +185,7 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
     const auto start = std::chrono::steady_clock::now();
     auto last = start, restartAt = start;
     int drawn = 0;
+    glm::dvec3 velocity(0.0);
     for (;;) {
         const runtime::WindowInput in = window->poll();
         if (in.closeRequested || (options.frames > 0 && drawn >= options.frames)) break;
@@ -184,7 +205,11 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
         const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0)));
         const double speed = (in.fast ? 60.0 : 15.0) * dt;
         frame.camera.forward = forward;
-        frame.camera.position += (right * in.move.x + glm::dvec3(0, 1, 0) * in.move.y + forward * in.move.z) * speed;
+        const glm::dvec3 step = (right * in.move.x + glm::dvec3(0, 1, 0) * in.move.y + forward * in.move.z) * speed;
+        frame.camera.position += step;
+        // A world prefetches where the camera is heading (smoothed over about half a second).
+        if (dt > 0.0) velocity = glm::mix(velocity, step / dt, std::min(1.0, 2.0 * dt));
+        frame.cameraVelocity = velocity;
         frame.timeOfDay = std::fmod(frame.timeOfDay + in.timeOfDayDelta + 24.0, 24.0);
         frame.time = scene.time + std::chrono::duration<double>(now - restartAt).count();
         const glm::ivec2 fb = window->framebufferSize();
@@ -215,6 +240,7 @@ Command addRender(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--frame", o->frame, "Frame number: scene time = frame / fps (default: the scene's time)")
         ->check(CLI::NonNegativeNumber);
     addProbesOptions(*cmd, o->probes);
+    addStreamingOptions(*cmd, o->renderer.streaming);
     cmd->add_flag("--stats", o->stats, "Print per-pass GPU and CPU times as JSON on stdout");
     cmd->add_option("--repeat", o->repeat, "With --stats: timed frames after a warm-up (median reported)")
         ->check(CLI::Range(1, 1000))->capture_default_str();
@@ -230,6 +256,7 @@ Command addView(CLI::App& app, CommonOptions& common) {
     addImageSizeOption(*cmd, o->renderer.size, "Window size WxH");
     cmd->add_option("--camera", o->camera, "Named camera to start from");
     addProbesOptions(*cmd, o->probes);
+    addStreamingOptions(*cmd, o->renderer.streaming);
     cmd->add_option("--frames", o->frames, "Close after this many frames (0: when the window is closed)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     return {cmd, [o, &common] { return runView(*o, common); }};

@@ -13,12 +13,13 @@ layout(location = 4) in vec2 aUv2;
 layout(location = 5) in uint aMaterial;
 layout(location = 6) in uvec4 aBlocks;    // per instance: 16 block codes, one byte each
 layout(location = 7) in uint aBuilding;   // per instance: the building id (room styles, lit windows)
-layout(location = 9) in vec3 aLight;      // baked lightmap (u, v, layer); layer -1: none
+layout(location = 9) in vec3 aLight;      // baked lightmap (u, v, layer); layer -1: none; -2: baked in uv1, uv2
+layout(location = 8) uniform vec3 modelOffset;  // the mesh's frame in render space (camera-relative)
 #ifdef DEPTH_PASS
 layout(location = 0) uniform mat4 depthViewProj;
 #endif
 void main() {
-    vec3 world = aPosition;
+    vec3 world = aPosition + modelOffset;
 #ifdef DEPTH_PASS
     gl_Position = depthViewProj * vec4(world, 1.0);
 #else

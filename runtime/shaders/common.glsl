@@ -12,6 +12,7 @@ layout(std140, binding = 0) uniform Frame {
     vec4 viewport;     // width, height, 1/width, 1/height
     vec4 overlook;     // xz origin of the overlook area, xz size
     vec4 overlookDepth;// camera height, near, far - near, 0
+    vec4 origin;       // the render origin's x, y, z (x and z modulo 8192 m): positions here are less it
 } frame;
 
 const float kPi = 3.14159265;

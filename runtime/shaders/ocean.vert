@@ -42,9 +42,10 @@ void main() {
     float edge = min(smoothstep(0.0, 3.0, aGrid.y), min(smoothstep(0.0, 2.0, column), smoothstep(0.0, 2.0, ocean.params.w - 1.0 - column)));
     float attenuation = shore * edge;
     vec3 normal;
-    vec3 d = gerstnerDisplacement(p0.xz, frame.cameraPos.w, attenuation, ocean.waveDirs01, ocean.waveDirs23,
+    vec2 phaseXz = p0.xz + frame.origin.xz;  // world x, z (modulo 8192 m): waves stay put as the render origin moves
+    vec3 d = gerstnerDisplacement(phaseXz, frame.cameraPos.w, attenuation, ocean.waveDirs01, ocean.waveDirs23,
                                   ocean.amplitude, ocean.wavelength, ocean.steepness, ocean.phase, normal);
-    float detail = noiseHeight(waveNoise, p0.xz, frame.cameraPos.w, ocean.params.z, ocean.noiseScale,
+    float detail = noiseHeight(waveNoise, phaseXz, frame.cameraPos.w, ocean.params.z, ocean.noiseScale,
                                ocean.noiseDriftX, ocean.noiseDriftY, attenuation);
     vWorld = vec3(p0.x + d.x, level + d.y + detail, p0.z + d.z);
     vNormal = normal;

@@ -27,15 +27,17 @@ void main() {
     vec3 n = normalize(vNormal);
     if (dot(n, V) > 0.0) n = -n;
     float night = frame.sunDir.w;
-    bool baked = vLight.z >= 0.0;
-    vec4 bake = baked ? decodeBaked(texture(lightmaps, vLight)) : vec4(0.0);
+    // Layer -2: an HLOD mesh, its bake decoded in (TEXCOORD_1, TEXCOORD_2) = (sky, sun bounce, AO, lamps).
+    bool vertexBaked = vLight.z < -1.5;
+    bool baked = vLight.z >= 0.0 || vertexBaked;
+    vec4 bake = vertexBaked ? vec4(vUv1, vUv2) : baked ? decodeBaked(texture(lightmaps, vLight)) : vec4(0.0);
     vec3 color;
     if (vMaterial == kGlass) {
         float cosTheta = clamp(dot(-V, n), 0.0, 1.0);
         float fresnel = 0.04 + 0.96 * pow(1.0 - cosTheta, 5.0);
         vec3 reflection = skyColor(reflect(V, n));
         vec3 behind = vec3(0.02, 0.025, 0.03);
-        if (vUv2.x > 0.0 && vUv2.y > 0.0 && vUv1.x > 0.0) {
+        if (!vertexBaked && vUv2.x > 0.0 && vUv2.y > 0.0 && vUv1.x > 0.0) {
             vec3 roomSize = vec3(vUv2.x, vUv2.y, vUv1.x);
             vec2 faceUv = clamp(vUv0 / vUv2, 0.0, 1.0);
             uint room = uint(vUv1.y + 0.5);

@@ -9,7 +9,7 @@ VARYING vec3 vNormal;
 VARYING vec2 vUv0;
 VARYING vec2 vUv1;
 VARYING vec2 vUv2;
-VARYING vec3 vLight;     // baked lightmap (u, v, layer); layer < 0: not baked
+VARYING vec3 vLight;     // baked lightmap (u, v, layer); layer -1: not baked; -2: baked in vUv1, vUv2
 flat VARYING uint vMaterial;
 flat VARYING vec4 vRect;     // atlas block interior (origin, size) for this material
 flat VARYING float vTile;    // metres per tile repeat

@@ -19,11 +19,12 @@ layout(location = 0) uniform mat4 depthViewProj;
 #endif
 layout(location = 5) uniform vec4 wind;   // xyz: unit, level, where it blows to (world); w: speed (m/s)
 layout(location = 6) uniform float windTime;
+layout(location = 8) uniform vec3 modelOffset;  // the trees' frame in render space (camera-relative)
 void main() {
     vec3 p = aPosition, n = aNormal;
     vec3 windDir = normalize(transpose(mat3(aModel)) * wind.xyz);
     windBend(p, n, aUv1, windDir, wind.w, windTime, dot(aModel[3].xz, vec2(0.37, 0.21)));
-    vec3 world = (aModel * vec4(p, 1.0)).xyz;
+    vec3 world = (aModel * vec4(p, 1.0)).xyz + modelOffset;
 #ifdef DEPTH_PASS
     gl_Position = depthViewProj * vec4(world, 1.0);
 #else

@@ -33,8 +33,12 @@ constexpr double kNear = 0.5, kFar = 4000.0;
 // The Frame uniform block of common.glsl (std140: mat4 and vec4 only).
 struct FrameBlock {
     glm::mat4 viewProj, invViewProj, lightViewProj;
-    glm::vec4 cameraPos, sunDir, sunColor, skyZenith, skyHorizon, groundColor, viewport, overlook, overlookDepth;
+    glm::vec4 cameraPos, sunDir, sunColor, skyZenith, skyHorizon, groundColor, viewport, overlook, overlookDepth, origin;
 };
+
+// The render origin's x and z modulo this (Frame.origin): phases of the waves, continuous as
+// the origin moves except where it wraps.
+constexpr double kPhaseWrap = 8192.0;
 
 // A minimal frame graph: passes in a fixed order, each bracketed by a GL_TIME_ELAPSED
 // query and a CPU clock. The timings are collected after the frame's glFinish.
@@ -125,7 +129,8 @@ struct Renderer::State {
     FlarePass flares;
     ProbeGpu probes;
     glm::dvec3 cameraForward{0.0, 0.0, -1.0};
-    std::vector<StreetLamp> lamps;
+    std::vector<StreetLamp> lamps;       // the city's (runtime coordinates)
+    std::vector<StreetLamp> frameLamps;  // this frame's, in render space (a world's drawn tiles')
     bool lensFlares = true;
     Lighting lighting;
     glm::vec4 lens{0.0f};  // flare.vert's near, far, projection[1][1]
@@ -194,7 +199,7 @@ void Renderer::State::addPasses() {
     s.graph.add("flares", [&s] {
         if (!s.lensFlares) return;
         glBindFramebuffer(GL_FRAMEBUFFER, s.target.flareFbo.id());
-        s.stats.drawCalls += s.flares.draw(flareLights(s.lighting, s.lamps), s.target.depth.id(), s.lens);
+        s.stats.drawCalls += s.flares.draw(flareLights(s.lighting, s.frameLamps), s.target.depth.id(), s.lens);
     });
     s.graph.add("tonemap", [&s] {
         glBindFramebuffer(GL_FRAMEBUFFER, s.target.ldrFbo.id());
@@ -219,6 +224,9 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
         s.probes.load({}, 0, {}, nullptr, settings);
         return;
     }
+    if (scene.worldDir)
+        throw InputError(format("probes \"{}\": a world scene streams its tiles and has no probes yet; use probes \"off\"",
+                                settings.preset));
     const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
     std::error_code ec;
     if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
@@ -234,7 +242,7 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
     s.options = options;
     if (options.size.x < 1 || options.size.y < 1 || options.size.x > 16384 || options.size.y > 16384)
         throw InputError(format("image size {}x{} is out of range (1 to 16384)", options.size.x, options.size.y));
-    s.scene.load(sceneFile, options.shadowMapSize);
+    s.scene.load(sceneFile, options.shadowMapSize, options.streaming);
     s.lensFlares = sceneFile.lensFlares;
     if (s.lensFlares) s.flares.load();
     // city.json's street lamps: the flares show them, the probes' capture is lit by them.
@@ -283,6 +291,28 @@ void Renderer::resize(glm::ivec2 size) {
     if (size != s_->target.size && size.x > 0 && size.y > 0) s_->target = makeTarget(size);
 }
 
+namespace {
+
+// What a world's selection sees: the camera in runtime coordinates.
+SelectionCamera selectionCamera(const ViewCamera& cam, const glm::dmat4& proj, int height) {
+    SelectionCamera c;
+    c.position = cam.position;
+    c.viewProj = proj * glm::lookAt(cam.position, cam.position + cam.forward, glm::dvec3(0, 1, 0));
+    c.screenHeight = double(height);
+    c.fovYRadians = glm::radians(cam.fovYDegrees);
+    return c;
+}
+
+// Where a moving camera will be in a second: the streaming asks for that view's tiles too.
+std::unique_ptr<SelectionCamera> prefetchCamera(const ViewCamera& cam, glm::dvec3 velocity, const glm::dmat4& proj, int height) {
+    if (glm::length(velocity) < 0.1) return nullptr;
+    ViewCamera ahead = cam;
+    ahead.position += velocity;
+    return std::make_unique<SelectionCamera>(selectionCamera(ahead, proj, height));
+}
+
+}  // namespace
+
 FrameStats Renderer::render(const FrameSettings& frame) {
     State& s = *s_;
     const auto t0 = Clock::now();
@@ -295,11 +325,17 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     s.cameraPos = cam.position;
     s.cameraForward = cam.forward;
     s.stats.probePreset = s.probesOn;
-    const glm::dmat4 proj = glm::perspective(glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
-    const glm::dmat4 view = glm::lookAt(cam.position, cam.position + cam.forward, glm::dvec3(0, 1, 0));
+    const double aspect = double(size.x) / double(size.y);
+    const glm::dmat4 proj = glm::perspective(glm::radians(cam.fovYDegrees), aspect, kNear, kFar);
+    const glm::dvec3 origin = s.scene.beginFrame(cam.position, selectionCamera(cam, proj, size.y),
+                                                 prefetchCamera(cam, frame.cameraVelocity, proj, size.y).get(), s.stats.streaming);
+    // Camera-relative: the view and everything the GPU sees are in render space (less `origin`).
+    const glm::dvec3 eye = cam.position - origin;
+    const glm::dmat4 view = glm::lookAt(eye, eye + cam.forward, glm::dvec3(0, 1, 0));
     const glm::dmat4 viewProj = proj * view;
     s.viewProj = glm::mat4(viewProj);
-    s.scene.setCamera(cam.position, cam.forward, glm::radians(cam.fovYDegrees), double(size.x) / double(size.y), kNear, kFar);
+    s.scene.setCamera(eye, cam.forward, glm::radians(cam.fovYDegrees), aspect, kNear, kFar);
+    s.frameLamps = s.scene.lamps(s.lamps);
 
     const Lighting light = lightingAt(frame.timeOfDay);
     s.lighting = light;
@@ -309,7 +345,7 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     block.viewProj = glm::mat4(viewProj);
     block.invViewProj = glm::mat4(glm::inverse(viewProj));
     block.lightViewProj = s.scene.lightViewProj(light.sunDirection);
-    block.cameraPos = glm::vec4(glm::vec3(cam.position), float(frame.time));
+    block.cameraPos = glm::vec4(glm::vec3(eye), float(frame.time));
     block.sunDir = glm::vec4(glm::vec3(light.sunDirection), float(light.night));
     block.sunColor = glm::vec4(glm::vec3(light.sunColor), float(s.scene.shadowDepthPerMetre() * 0.2));
     block.skyZenith = glm::vec4(glm::vec3(light.zenith), 0.0f);
@@ -318,6 +354,7 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     block.viewport = glm::vec4(float(size.x), float(size.y), 1.0f / float(size.x), 1.0f / float(size.y));
     block.overlook = s.scene.overlookArea();
     block.overlookDepth = s.scene.overlookDepthRange();
+    block.origin = glm::vec4(float(std::fmod(origin.x, kPhaseWrap)), float(origin.y), float(std::fmod(origin.z, kPhaseWrap)), 0.0f);
     glNamedBufferSubData(s.frameUbo.id(), 0, sizeof(block), &block);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, s.frameUbo.id());
     s.scene.bindShared();
@@ -326,7 +363,7 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     s.graph.execute(s.synchronise);
     glFinish();
     s.graph.collect(s.stats.passes);
-    s.stats.frameMs = msSince(t0);
+    s.stats.frameMs = msSince(t0) - s.stats.streaming.waitMs;  // the frame's cost, not its wait for tiles
     gl::check("rendering a frame");
     return s.stats;
 }
@@ -391,6 +428,14 @@ std::string frameStatsJson(const FrameStats& stats, glm::ivec2 size, const std::
                        {"held", stats.probes.held},
                        {"capture_ms", ms(probeMs)},
                        {"per_second", probeMs > 0.0 ? ms(1000.0 * stats.probes.captured / probeMs) : 0.0}};
+    }
+    if (stats.streaming.on) {
+        const StreamingStats& st = stats.streaming;
+        j["streaming"] = {{"nodes", st.nodes},         {"wanted", st.wanted},   {"resident", st.resident},
+                          {"drawn", st.drawn},         {"loading", st.loading}, {"loads", st.loads},
+                          {"evictions", st.evictions}, {"failed", st.failed},   {"resident_mb", ms(st.residentMB)},
+                          {"upload_mb", ms(double(st.uploadBytes) / (1024.0 * 1024.0))},
+                          {"upload_ms", ms(st.uploadMs)}, {"wait_ms", ms(st.waitMs)}, {"complete", st.complete}};
     }
     j["passes"] = std::move(passes);
     return j.dump(2) + "\n";

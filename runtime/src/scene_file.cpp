@@ -216,7 +216,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
         r.fail(format("not valid JSON: {}", oneLine(e.what())));
     }
     if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
-    r.object(root, "", {"format", "version", "city", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras",
+    r.object(root, "", {"format", "version", "city", "world", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras",
                         "lens_flares", "probes"});
     const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
     if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
@@ -225,7 +225,10 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
 
     SceneFile scene;
     scene.file = file;
+    if (root.contains("city") && root.contains("world"))
+        r.fail("\"city\" and \"world\" are both given: a scene draws one city folder or one world, not both");
     if (root.contains("city")) scene.cityDir = r.folderPath(root["city"], "city");
+    if (root.contains("world")) scene.worldDir = r.folderPath(root["world"], "world");
     if (root.contains("time_of_day")) scene.timeOfDay = r.number(root["time_of_day"], "time_of_day", 0.0, false, 24.0, true);
     if (root.contains("time")) scene.time = r.number(root["time"], "time", 0.0, false, kInf, false);
     if (root.contains("fps")) scene.fps = r.number(root["fps"], "fps", 0.0, true, kInf, false);
@@ -266,6 +269,14 @@ SceneFile loadSceneFile(const std::filesystem::path& file) {
             throw InputError(format("{}: \"city\": {} is missing (the city folder must hold city.glb from `dawnforge city`)",
                                     source, (*scene.cityDir / "city.glb").string()));
     }
+    if (scene.worldDir) {
+        if (!std::filesystem::is_directory(*scene.worldDir, ec))
+            throw InputError(format("{}: \"world\": the folder {} does not exist (expected a folder written by `dawnforge world build`)",
+                                    source, scene.worldDir->string()));
+        if (!std::filesystem::is_regular_file(*scene.worldDir / "tileset.json", ec))
+            throw InputError(format("{}: \"world\": {} is missing (run `dawnforge world build` on the world until it finishes)",
+                                    source, (*scene.worldDir / "tileset.json").string()));
+    }
     for (std::size_t i = 0; i < scene.destruction.size(); ++i) {
         const DestructionInstance& d = scene.destruction[i];
         if (!std::filesystem::is_directory(d.vatDir, ec))
@@ -284,6 +295,7 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
     j["format"] = kFormat;
     j["version"] = kVersion;
     if (scene.cityDir) j["city"] = relativePath(*scene.cityDir, relativeTo);
+    if (scene.worldDir) j["world"] = relativePath(*scene.worldDir, relativeTo);
     j["time_of_day"] = scene.timeOfDay;
     j["time"] = scene.time;
     j["fps"] = scene.fps;

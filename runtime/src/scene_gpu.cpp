@@ -25,87 +25,40 @@ namespace {
 
 constexpr int kMaterials = 16;
 constexpr int kOverlookSize = 1024;
+// A world's sun shadow covers this radius around the ground ahead of the camera at at most
+// kWorldShadowSize² texels (0.23 m, as a 450 m district's 2048²); a city's covers the whole city.
+constexpr double kWorldShadowRadius = 120.0;
+constexpr int kWorldShadowSize = 1024;
 
-// The default mapping of an instance: every material in its own block, brick and plaster
-// in one of their four half-size variants chosen from the instance id.
-glm::uvec4 instanceBlocks(std::uint32_t id) {
-    const std::uint64_t h = deriveSeed(0x6174'6c61'7300ull, "atlas variant", id);
-    glm::uvec4 blocks(0u);
-    for (int m = 0; m < kMaterials; ++m) {
-        const int variant = int((h >> (2 * m)) & 3u);
-        blocks[m / 4] |= encodeBlock(materialBlock(m, variant)) << (8 * (m % 4));
-    }
-    return blocks;
+// The earliest start time of a destruction replacing each building.
+std::map<std::uint32_t, double> replacedUntil(const SceneFile& scene) {
+    std::map<std::uint32_t, double> until;
+    for (const DestructionInstance& d : scene.destruction)
+        if (d.replaces) {
+            const auto [it, added] = until.try_emplace(std::uint32_t(*d.replaces), d.startTime);
+            it->second = std::min(it->second, d.startTime);
+        }
+    return until;
 }
 
-// Culling: is the box outside one of the six planes of `viewProj`?
-bool outsideFrustum(const glm::mat4& viewProj, glm::vec3 lo, glm::vec3 hi) {
-    const glm::mat4 m = glm::transpose(viewProj);
-    const glm::vec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
-    for (const glm::vec4& p : planes) {
-        const glm::vec3 far(p.x > 0 ? hi.x : lo.x, p.y > 0 ? hi.y : lo.y, p.z > 0 ? hi.z : lo.z);
-        if (glm::dot(glm::vec3(p), far) + p.w < 0.0f) return true;
-    }
-    return false;
+// Binds `fbo` as a size² depth target and clears it.
+void clearDepthTarget(GLuint fbo, int size) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, size, size);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_CULL_FACE);
 }
 
 }  // namespace
 
-void vertexLayout(GLuint vao) {
-    glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, position));
-    glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, normal));
-    glVertexArrayAttribFormat(vao, 2, 2, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, uv0));
-    glVertexArrayAttribFormat(vao, 3, 2, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, uv1));
-    glVertexArrayAttribFormat(vao, 4, 2, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, uv2));
-    glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_BYTE, offsetof(StaticVertex, material));
-    glVertexArrayAttribFormat(vao, 9, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, light));
-    for (GLuint a : {0u, 1u, 2u, 3u, 4u, 5u, 9u}) {
-        glEnableVertexArrayAttrib(vao, a);
-        glVertexArrayAttribBinding(vao, a, 0);
-    }
-}
-
-void growPlacedBox(glm::dvec3 boxMin, glm::dvec3 boxMax, const glm::mat4& model, glm::dvec3& lo, glm::dvec3& hi) {
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 corner((c & 1) ? boxMax.x : boxMin.x, (c & 2) ? boxMax.y : boxMin.y, (c & 4) ? boxMax.z : boxMin.z);
-        const glm::dvec3 p = glm::dvec3(model * glm::vec4(glm::vec3(corner), 1.0f));
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-}
-
-void instancedLayout(GLuint vao, GLuint vertices, GLuint indices, GLuint instances, GLsizei instanceStride,
-                     GLuint blocksOffset, GLuint buildingOffset) {
-    vertexLayout(vao);
-    glVertexArrayVertexBuffer(vao, 0, vertices, 0, sizeof(StaticVertex));
-    glVertexArrayElementBuffer(vao, indices);
-    glVertexArrayAttribIFormat(vao, 6, 4, GL_UNSIGNED_INT, blocksOffset);
-    glVertexArrayAttribIFormat(vao, 7, 1, GL_UNSIGNED_INT, buildingOffset);
-    for (GLuint a : {6u, 7u}) {
-        glEnableVertexArrayAttrib(vao, a);
-        glVertexArrayAttribBinding(vao, a, 1);
-    }
-    glVertexArrayVertexBuffer(vao, 1, instances, 0, instanceStride);
-    glVertexArrayBindingDivisor(vao, 1, 1);
-}
-
-StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, const glm::mat3& normalMatrix) {
-    StaticVertex v{};
-    v.position = glm::vec3(world * glm::vec4(m.positions[i], 1.0f));
-    v.normal = m.normals.empty() ? glm::vec3(0, 1, 0) : glm::normalize(normalMatrix * m.normals[i]);
-    v.uv0 = m.uv0.empty() ? glm::vec2(0) : m.uv0[i];
-    v.uv1 = m.uv1.empty() ? glm::vec2(0) : m.uv1[i];
-    v.uv2 = m.uv2.empty() ? glm::vec2(0) : m.uv2[i];
-    v.material = m.materialIds.empty() ? 0 : std::uint8_t(m.materialIds[i] & 15u);
-    v.light = glm::vec3(0.0f, 0.0f, -1.0f);
-    return v;
-}
-
-void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
+void SceneGpu::load(const SceneFile& scene, int shadowMapSize, const StreamingOptions& streaming) {
     shadowSize_ = shadowMapSize;
     wind_ = scene.wind;
-    surface_ = gl::makeProgram("building.vert", "surface.frag");
-    surfaceDepth_ = gl::makeProgram("building.vert", "depth.frag", {"DEPTH_PASS"});
+    programs_.make();
     vat_ = gl::makeProgram("vat.vert", "surface.frag");
     vatDepth_ = gl::makeProgram("vat.vert", "depth.frag", {"DEPTH_PASS"});
 
@@ -130,17 +83,21 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
 
     boundsMin_ = glm::dvec3(std::numeric_limits<double>::max());
     boundsMax_ = glm::dvec3(-std::numeric_limits<double>::max());
-    vao_ = gl::makeVertexArray();
     // Without a bake, one black layer: the shaders never read it (every vertex's layer is -1).
-    lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
-    glTextureStorage3D(lightmaps_.id(), 1, GL_RGBA8, 1, 1, 1);
+    noLightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
+    glTextureStorage3D(noLightmaps_.id(), 1, GL_RGBA8, 1, 1, 1);
     const std::uint8_t black[4] = {0, 0, 0, 0};
-    glTextureSubImage3D(lightmaps_.id(), 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, black);
-    if (scene.cityDir) loadCity(*scene.cityDir);
+    glTextureSubImage3D(noLightmaps_.id(), 0, 0, 0, 0, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, black);
+    if (scene.cityDir) loadCity(scene);
+    if (scene.worldDir) {
+        world_ = std::make_unique<TileStreamer>();
+        world_->open(*scene.worldDir, streaming, replacedUntil(scene));
+        boundsMin_ = world_->tiles().boundsMin, boundsMax_ = world_->tiles().boundsMax;
+    }
     for (const DestructionInstance& d : scene.destruction) loadVat(d);
-    for (const DestructionInstance& d : scene.destruction)
-        if (d.replaces) replaceBuilding(d);
+    checkReplaced(scene);
     if (boundsMin_.x > boundsMax_.x) boundsMin_ = glm::dvec3(-10.0), boundsMax_ = glm::dvec3(10.0);
+    if (world_) shadowSize_ = std::min(shadowSize_, kWorldShadowSize);
 
     // The shadow map: depth with hardware comparison (sampler2DShadow).
     shadowMap_ = gl::makeTexture2D(GL_DEPTH_COMPONENT32F, shadowSize_, shadowSize_, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
@@ -151,106 +108,19 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize) {
     glNamedFramebufferDrawBuffer(shadowFbo_.id(), GL_NONE);
 
     if (scene.ocean) loadOcean(*scene.ocean);
-    // The ocean's shores and the probes' IN/OUT tags read it; a bake brings its own.
-    if (!bakedOverlook_ && (scene.ocean || scene.probes.preset != "off")) renderOverlook();
+    // The ocean's shores and the probes' IN/OUT tags read it; a bake brings its own. A world
+    // has none yet: its whole sea is open water (overlookArea() puts every point outside).
+    if (world_) overlook_ = gl::makeTexture2D(GL_R32F, 1, 1, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    else if (!bakedOverlook_ && (scene.ocean || scene.probes.preset != "off")) renderOverlook();
     gl::check("loading the scene");
 }
 
-void SceneGpu::loadCity(const std::filesystem::path& cityDir) {
-    const std::filesystem::path file = cityDir / "city.glb";
-    std::vector<MeshNode> nodes = loadMeshNodes(file);
-    trees_.load(nodes, instanceBlocks(0xffffu), boundsMin_, boundsMax_);
-    const std::optional<BakedCity> baked = loadBakedCity(cityDir, readBinaryFile(file));
-    std::vector<StaticVertex> vertices;
-    std::vector<std::uint32_t> indices;
-    std::vector<InstanceData> instances;
-    std::map<std::string, std::size_t> buildingIndex;
-
-    const auto append = [&](const MeshNode& node, glm::vec3& lo, glm::vec3& hi) {
-        DrawRange r;
-        r.firstIndex = std::uint32_t(indices.size());
-        r.baseVertex = std::int32_t(vertices.size());
-        r.count = std::uint32_t(node.mesh.indices.size());
-        const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(node.world)));
-        const std::vector<glm::vec3>* light = nullptr;
-        if (baked) {
-            const auto it = baked->lightmaps.nodeUv.find(node.name);
-            if (it != baked->lightmaps.nodeUv.end() && it->second.size() == node.mesh.positions.size()) light = &it->second;
-        }
-        for (std::size_t i = 0; i < node.mesh.positions.size(); ++i) {
-            vertices.push_back(staticVertex(node.mesh, i, node.world, normalMatrix));
-            if (light) vertices.back().light = (*light)[i];
-            lo = glm::min(lo, vertices.back().position);
-            hi = glm::max(hi, vertices.back().position);
-        }
-        indices.insert(indices.end(), node.mesh.indices.begin(), node.mesh.indices.end());
-        return r;
-    };
-    for (const MeshNode& node : nodes) {
-        const std::string& name = node.name;
-        const bool lod0 = name.ends_with("_lod0"), lod1 = name.ends_with("_lod1");
-        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-        if (lod0 || lod1) {
-            const std::string key = name.substr(0, name.size() - 5);
-            auto [it, added] = buildingIndex.try_emplace(key, buildings_.size());
-            if (added) {
-                Building b;
-                b.min = lo, b.max = hi;
-                // building_NNNNN: the id the city gave it; anything else: its order.
-                std::uint32_t id = std::uint32_t(buildings_.size());
-                if (key.starts_with("building_")) id = std::uint32_t(std::strtoul(key.c_str() + 9, nullptr, 10));
-                b.instance = std::uint32_t(instances.size());
-                b.id = id;
-                instances.push_back({instanceBlocks(id), id});
-                buildings_.push_back(b);
-            }
-            Building& b = buildings_[it->second];
-            (lod0 ? b.lod0 : b.lod1) = append(node, lo, hi);
-            b.min = glm::min(b.min, lo), b.max = glm::max(b.max, hi);
-        } else {
-            Static s;
-            s.instance = std::uint32_t(instances.size());
-            instances.push_back({instanceBlocks(0xffffu), 0xffffu});
-            s.range = append(node, lo, hi);
-            statics_.push_back(s);
-        }
-        // The far land is a backdrop: the shadow map and the overlook fit the city, not it.
-        if (name.starts_with("land_")) continue;
-        boundsMin_ = glm::min(boundsMin_, glm::dvec3(lo));
-        boundsMax_ = glm::max(boundsMax_, glm::dvec3(hi));
-    }
-    // A building with only one LOD draws it at every distance.
-    for (Building& b : buildings_) {
-        if (b.lod0.count == 0) b.lod0 = b.lod1;
-        if (b.lod1.count == 0) b.lod1 = b.lod0;
-    }
-    vertices_ = gl::makeBuffer(vertices);
-    indices_ = gl::makeBuffer(indices);
-    instances_ = gl::makeBuffer(instances);
-    instancedLayout(vao_.id(), vertices_.id(), indices_.id(), instances_.id(), sizeof(InstanceData),
-                    offsetof(InstanceData, blocks), offsetof(InstanceData, building));
-    if (baked) {
-        loadLightmaps(baked->lightmaps);
-        if (baked->overlook) loadOverlook(*baked->overlook);
-    }
-}
-
-// Two mip levels (bake/charts.hpp: kLightmapLevels), the second averaged by GL: the charts'
-// blocks are aligned so that it never mixes two charts.
-void SceneGpu::loadLightmaps(const LightmapArray& lightmaps) {
-    if (lightmaps.layers == 0) return;
-    lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
-    const GLuint id = lightmaps_.id();
-    glTextureStorage3D(id, 2, GL_RGBA8, lightmaps.size, lightmaps.size, lightmaps.layers);
-    glTextureSubImage3D(id, 0, 0, 0, 0, lightmaps.size, lightmaps.size, lightmaps.layers, GL_RGBA, GL_UNSIGNED_BYTE,
-                        lightmaps.rgba.data());
-    glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, 1);
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenerateTextureMipmap(id);
-    baked_ = true;
+void SceneGpu::loadCity(const SceneFile& scene) {
+    city_.emplace(loadCityCpu(*scene.cityDir, replacedUntil(scene)));
+    city_->upload(std::numeric_limits<std::size_t>::max());
+    if (!city_->empty()) boundsMin_ = city_->boundsMin(), boundsMax_ = city_->boundsMax();
+    baked_ = city_->baked();
+    if (city_->overlook()) loadOverlook(*city_->overlook());
 }
 
 // The bake's overlook depth (metres below `top`) in place of the one drawn at load.
@@ -264,14 +134,12 @@ void SceneGpu::loadOverlook(const OverlookDepth& o) {
     bakedOverlook_ = true;
 }
 
-// The building a destruction replaces is hidden from its start time on.
-void SceneGpu::replaceBuilding(const DestructionInstance& d) {
-    for (Building& b : buildings_)
-        if (b.id == std::uint32_t(*d.replaces)) {
-            b.until = std::min(b.until, d.startTime);
-            return;
-        }
-    throw InputError(format("destruction {}: \"replaces\": the city has no building {}", d.name, *d.replaces));
+// A destruction may replace only a building the city has (a world's tiles are checked as they load).
+void SceneGpu::checkReplaced(const SceneFile& scene) const {
+    if (!city_) return;
+    for (const DestructionInstance& d : scene.destruction)
+        if (d.replaces && !city_->hasBuilding(std::uint32_t(*d.replaces)))
+            throw InputError(format("destruction {}: \"replaces\": the city has no building {}", d.name, *d.replaces));
 }
 
 void SceneGpu::loadVat(const DestructionInstance& d) {
@@ -285,6 +153,8 @@ void SceneGpu::loadVat(const DestructionInstance& d) {
                          float(file.layout.frames));
     v.fps = file.fps;
     v.startTime = d.startTime;
+    v.place = d.position;
+    v.yawDegrees = d.yawDegrees;
     v.model = glm::translate(glm::mat4(1.0f), glm::vec3(d.position)) *
               glm::rotate(glm::mat4(1.0f), float(glm::radians(d.yawDegrees)), glm::vec3(0, 1, 0));
     // A building's destruction wears the building's own atlas blocks (its brick, its plaster).
@@ -396,7 +266,8 @@ void SceneGpu::renderOverlook() {
     overlookArea_ = glm::vec4(lo.x, lo.z, std::max(hi.x - lo.x, 1e-3f), std::max(hi.z - lo.z, 1e-3f));
     overlookDepth_ = glm::vec4(top, nearPlane, farPlane - nearPlane, 0.0f);
 
-    drawShells(overlookFbo_.id(), kOverlookSize, viewProj, -std::numeric_limits<double>::infinity());
+    clearDepthTarget(overlookFbo_.id(), kOverlookSize);
+    if (city_) city_->drawDepth(programs_, indirect_, viewProj, glm::vec3(0.0f), -std::numeric_limits<double>::infinity(), nullptr);
     glFinish();
     overlookMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -411,10 +282,36 @@ void SceneGpu::setCamera(glm::dvec3 position, glm::dvec3 forward, double fovY, d
     camera_.farPlane = farPlane;
 }
 
-// The sun's orthographic camera, fitted around the scene's bounding sphere.
+glm::dvec3 SceneGpu::beginFrame(glm::dvec3 camera, const SelectionCamera& selection, const SelectionCamera* prefetch,
+                                StreamingStats& stats) {
+    if (!world_) return origin_ = glm::dvec3(0.0);
+    origin_ = glm::round(camera / kOriginStep) * kOriginStep;
+    origin_.y = 0.0;
+    world_->update(selection, prefetch, stats);
+    drawn_ = world_->drawn();
+    return origin_;
+}
+
+double SceneGpu::shadowRadius() const {
+    return world_ ? kWorldShadowRadius : std::max(0.5 * glm::length(boundsMax_ - boundsMin_), 1.0);
+}
+
+glm::vec4 SceneGpu::overlookArea() const {
+    if (world_) return glm::vec4(1e30f, 1e30f, 1.0f, 1.0f);  // every point outside: open water
+    return overlookArea_;
+}
+
+// The sun's orthographic camera, fitted around the scene's bounding sphere (a city) or the
+// sphere of kWorldShadowRadius around the ground ahead of the camera (a world), in render space.
 glm::mat4 SceneGpu::lightViewProj(glm::dvec3 sunDirection) {
-    const glm::vec3 centre(0.5 * (boundsMin_ + boundsMax_));
-    const float radius = float(sceneRadius());
+    glm::vec3 centre(0.5 * (boundsMin_ + boundsMax_) - origin_);
+    if (world_) {  // camera_ is in render space
+        const glm::dvec3 level(camera_.forward.x, 0.0, camera_.forward.z);
+        const double length = glm::length(level);
+        const glm::dvec3 ahead = camera_.position + (length > 1e-6 ? 0.6 * kWorldShadowRadius / length : 0.0) * level;
+        centre = glm::vec3(ahead.x, std::max(camera_.position.y - 40.0, 0.0), ahead.z);
+    }
+    const float radius = float(shadowRadius());
     const glm::vec3 dir = glm::normalize(glm::vec3(sunDirection));
     const glm::vec3 up = std::abs(dir.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
     const glm::mat4 view = glm::lookAt(centre + dir * 2.0f * radius, centre, up);
@@ -428,80 +325,47 @@ void SceneGpu::bindShared() {
     glBindTextureUnit(0, atlas_.id());
     glBindTextureUnit(1, rooms_.id());
     glBindTextureUnit(2, roomMiddle_.id());
-    glBindTextureUnit(8, lightmaps_.id());
+    glBindTextureUnit(8, noLightmaps_.id());
     glBindTextureUnit(6, overlook_.id());
     glBindTextureUnit(7, shadowMap_.id());
 }
 
-std::size_t SceneGpu::drawStatic(const std::vector<Command>& commands) {
-    if (commands.empty()) return 0;
-    const std::size_t bytes = commands.size() * sizeof(Command);
-    if (bytes > indirectCapacity_) {
-        indirectCapacity_ = std::max<std::size_t>(bytes * 2, 4096);
-        indirect_ = gl::makeBuffer(nullptr, indirectCapacity_, GL_DYNAMIC_STORAGE_BIT);
-    }
-    glNamedBufferSubData(indirect_.id(), 0, GLsizeiptr(bytes), commands.data());
-    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, indirect_.id());
-    glBindVertexArray(vao_.id());
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, nullptr, GLsizei(commands.size()), 0);
-    return 1;
-}
-
-// Depth of the ground and every building's LOD1 shell into `fbo` (cleared first).
-std::size_t SceneGpu::drawShells(GLuint fbo, int size, const glm::mat4& viewProj, double time) {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, size, size);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glClearDepth(1.0);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glDisable(GL_CULL_FACE);
-    if (statics_.empty() && buildings_.empty()) return 0;
-    glUseProgram(surfaceDepth_.id());
-    glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(viewProj));
-    std::vector<Command> commands;
-    for (const Static& s : statics_) commands.push_back({s.range.count, 1, s.range.firstIndex, s.range.baseVertex, s.instance});
-    for (const Building& b : buildings_)
-        if (time < b.until) commands.push_back({b.lod1.count, 1, b.lod1.firstIndex, b.lod1.baseVertex, b.instance});
-    return drawStatic(commands);
+std::vector<StreetLamp> SceneGpu::lamps(const std::vector<StreetLamp>& cityLamps) {
+    std::vector<StreetLamp> out = cityLamps;
+    for (const TileStreamer::Drawn& d : drawn_)
+        if (d.lamps)
+            for (StreetLamp lamp : *d.lamps) {
+                lamp.position += d.offset;
+                out.push_back(lamp);
+            }
+    for (StreetLamp& lamp : out) lamp.position -= origin_;
+    return out;
 }
 
 std::size_t SceneGpu::drawShadow(double time) {
-    // The trees and the falling pieces cast shadows too. In sequence: drawShells binds and
-    // clears the shadow map (the operands of + have no order).
-    std::size_t draws = drawShells(shadowFbo_.id(), shadowSize_, lightViewProj_, time);
-    draws += trees_.draw(wind_, time, &lightViewProj_, nullptr);
+    // The trees and the falling pieces cast shadows too.
+    clearDepthTarget(shadowFbo_.id(), shadowSize_);
+    std::size_t draws = 0;
+    if (city_) draws += city_->drawDepth(programs_, indirect_, lightViewProj_, glm::vec3(0.0f), time, &wind_);
+    for (const TileStreamer::Drawn& d : drawn_) {
+        if (d.hlod) continue;  // far away, its light baked: it casts no sun shadow
+        const glm::dvec3 lo = d.city->fullMin() + d.offset, hi = d.city->fullMax() + d.offset;
+        if (outsideFrustum(lightViewProj_, glm::vec3(lo - origin_), glm::vec3(hi - origin_))) continue;
+        draws += d.city->drawDepth(programs_, indirect_, lightViewProj_, offsetOf(d.offset), time, &wind_);
+    }
     return draws + drawVats(time, true, nullptr);
 }
 
 std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time,
                                  FrameStats& stats) {
-    // Trees after the city, or alone where a scene has nothing else.
-    if (statics_.empty() && buildings_.empty()) return trees_.draw(wind_, time, nullptr, &stats);
-    glUseProgram(surface_.id());
-    glUniform1i(4, roomStyles_);
-    std::vector<Command> commands;
-    for (const Static& s : statics_) {
-        commands.push_back({s.range.count, 1, s.range.firstIndex, s.range.baseVertex, s.instance});
-        stats.triangles += s.range.count / 3;
-    }
-    for (const Building& b : buildings_) {
-        if (time >= b.until) continue;  // its destruction has taken its place
-        if (outsideFrustum(viewProj, b.min, b.max)) {
-            ++stats.culledBuildings;
-            continue;
-        }
-        const glm::dvec3 nearest = glm::clamp(camera, glm::dvec3(b.min), glm::dvec3(b.max));
-        // A building that a destruction replaces draws LOD0 at any distance, as its pieces do.
-        const bool near = glm::length(nearest - camera) < lodDistance || b.until < std::numeric_limits<double>::infinity();
-        const DrawRange& r = near ? b.lod0 : b.lod1;
-        ++(near ? stats.lod0Buildings : stats.lod1Buildings);
-        commands.push_back({r.count, 1, r.firstIndex, r.baseVertex, b.instance});
-        stats.triangles += r.count / 3;
-    }
-    const std::size_t city = drawStatic(commands);  // first: the operands of + have no order
-    return city + trees_.draw(wind_, time, nullptr, &stats);
+    std::size_t draws = 0;
+    if (city_) draws += city_->drawOpaque(programs_, indirect_, {glm::vec3(0.0f), camera, viewProj, lodDistance, time}, wind_,
+                                          roomStyles_, stats);
+    for (const TileStreamer::Drawn& d : drawn_)
+        draws += d.city->drawOpaque(programs_, indirect_, {offsetOf(d.offset), camera - d.offset, viewProj, lodDistance, time},
+                                    wind_, roomStyles_, stats);
+    glBindTextureUnit(8, noLightmaps_.id());
+    return draws;
 }
 
 std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
@@ -519,7 +383,10 @@ std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
         glUniform4fv(1, 1, glm::value_ptr(v.layout));
         const double frame = std::clamp((time - v.startTime) * v.fps, 0.0, double(v.layout.w) - 1.0);
         glUniform1f(2, float(frame));
-        glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(v.model));
+        // Placed in render space: the translation less the origin, in double.
+        const glm::mat4 model = glm::translate(glm::mat4(1.0f), glm::vec3(v.place - origin_)) *
+                                glm::rotate(glm::mat4(1.0f), float(glm::radians(v.yawDegrees)), glm::vec3(0, 1, 0));
+        glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(model));
         glDrawElements(GL_TRIANGLES, GLsizei(v.indexCount), GL_UNSIGNED_INT, nullptr);
         if (stats) stats->triangles += v.indexCount / 3;
         ++draws;

@@ -1,11 +1,15 @@
 #pragma once
-// What a scene file puts on the GPU (private to the renderer): the city's meshes in one
-// vertex/index buffer with per-building instance data, the atlas and interior textures,
-// the destruction VATs, the ocean grid, the shadow map and the overlook depth.
+// What a scene file puts on the GPU (private to the renderer): the city (city_gpu.hpp) or a
+// world's streamed tiles (streaming.hpp), the atlas and interior textures, the destruction
+// VATs, the ocean grid, the shadow map and the overlook depth.
+//
+// Camera-relative rendering: everything is drawn in render space, runtime coordinates less
+// `renderOrigin()`. A city scene keeps the origin at 0; a world moves it with the camera in
+// steps of kOriginStep metres, so coordinates on the GPU stay small wherever the camera is.
+#include "city_gpu.hpp"
 #include "gl.hpp"
 #include "piece_boxes.hpp"
-#include "static_vertex.hpp"
-#include "trees.hpp"
+#include "streaming.hpp"
 
 #include <dawnforge/runtime/lightmaps.hpp>
 #include <dawnforge/runtime/ocean.hpp>
@@ -20,34 +24,32 @@
 
 namespace dawnforge::runtime {
 
-// Per-instance data: the material → atlas block mapping (16 codes, one byte each) and the
-// building id. Every building is one instance of the same multi-draw, each with its own mapping.
-struct InstanceData {
-    glm::uvec4 blocks;
-    std::uint32_t building;
-};
-
-struct DrawRange {
-    std::uint32_t count = 0, firstIndex = 0;
-    std::int32_t baseVertex = 0;
-};
-
 class SceneGpu {
 public:
-    void load(const SceneFile& scene, int shadowMapSize);
+    static constexpr double kOriginStep = 1024.0;
 
+    void load(const SceneFile& scene, int shadowMapSize, const StreamingOptions& streaming);
+
+    bool world() const { return world_ != nullptr; }
+    const TileStreamer* streamer() const { return world_.get(); }
     glm::dvec3 boundsMin() const { return boundsMin_; }
     glm::dvec3 boundsMax() const { return boundsMax_; }
+    // The render origin for a camera at `camera` (0 for a city), and the frame's streaming.
+    glm::dvec3 beginFrame(glm::dvec3 camera, const SelectionCamera& selection, const SelectionCamera* prefetch,
+                          StreamingStats& stats);
+    glm::dvec3 renderOrigin() const { return origin_; }
     void setCamera(glm::dvec3 position, glm::dvec3 forward, double fovY, double aspect, double nearPlane, double farPlane);
     glm::mat4 lightViewProj(glm::dvec3 sunDirection);
-    // Shadow-map depth units per metre along the light (its depth range is 3 × the scene's radius).
-    double shadowDepthPerMetre() const { return 1.0 / (3.0 * sceneRadius()); }
-    double sceneRadius() const { return std::max(0.5 * glm::length(boundsMax_ - boundsMin_), 1.0); }
-    glm::vec4 overlookArea() const { return overlookArea_; }
+    // Shadow-map depth units per metre along the light (its depth range is 3 × the shadow radius).
+    double shadowDepthPerMetre() const { return 1.0 / (3.0 * shadowRadius()); }
+    double shadowRadius() const;
+    glm::vec4 overlookArea() const;
     glm::vec4 overlookDepthRange() const { return overlookDepth_; }
     double overlookMs() const { return overlookMs_; }
     bool baked() const { return baked_; }
     void bindShared();
+    // The street lamps of the city, or of the world's tiles drawn this frame, in render space.
+    std::vector<StreetLamp> lamps(const std::vector<StreetLamp>& cityLamps);
 
     // The destruction pieces drawn at scene time `time`, as boxes for the probes' capture.
     std::vector<ProbeBox> pieceBoxes(double time) const;
@@ -62,17 +64,6 @@ public:
     std::size_t drawOcean(FrameStats& stats);  // from the camera given to setCamera()
 
 private:
-    struct Building {
-        DrawRange lod0, lod1;
-        glm::vec3 min{0.0f}, max{0.0f};
-        std::uint32_t instance = 0;
-        std::uint32_t id = 0;                                      // the city's building id
-        double until = std::numeric_limits<double>::infinity();  // scene time a destruction replaces it
-    };
-    struct Static {
-        DrawRange range;
-        std::uint32_t instance = 0;
-    };
     struct Vat {
         std::string name;
         gl::VertexArray vao;
@@ -83,41 +74,35 @@ private:
         double fps = 30.0, startTime = 0.0;
         bool replacing = false;      // replaces a building: not drawn before startTime
         std::uint32_t building = 0xfffeu;  // the instance id the shaders see (the building's when replacing)
-        glm::mat4 model{1.0f};
+        glm::dvec3 place{0.0};       // where it stands, runtime coordinates
+        double yawDegrees = 0.0;
+        glm::mat4 model{1.0f};       // runtime coordinates (the probes' boxes)
         glm::uvec4 blocks{0u};
         VatPieceBoxes boxes;
     };
-    struct Command {
-        std::uint32_t count, instanceCount, firstIndex;
-        std::int32_t baseVertex;
-        std::uint32_t baseInstance;
-    };
 
-    void loadCity(const std::filesystem::path& cityDir);
-    void loadLightmaps(const LightmapArray& lightmaps);
+    void loadCity(const SceneFile& scene);
     void loadOverlook(const OverlookDepth& overlook);
     void loadVat(const DestructionInstance& instance);
-    void replaceBuilding(const DestructionInstance& instance);
+    void checkReplaced(const SceneFile& scene) const;
     void loadOcean(const OceanSettings& settings);
     void renderOverlook();
-    std::size_t drawStatic(const std::vector<Command>& commands);
-    std::size_t drawShells(GLuint fbo, int size, const glm::mat4& viewProj, double time);
     std::size_t drawVats(double time, bool depth, FrameStats* stats);
+    glm::vec3 offsetOf(glm::dvec3 frame) const { return glm::vec3(frame - origin_); }
 
-    // City geometry.
-    std::vector<Building> buildings_;
-    std::vector<Static> statics_;
-    gl::Buffer vertices_, indices_, instances_, indirect_;
-    std::size_t indirectCapacity_ = 0;
-    gl::VertexArray vao_;
-    gl::Program surface_, surfaceDepth_, vat_, vatDepth_, ocean_;
+    CityPrograms programs_;
+    IndirectDraws indirect_;
+    std::optional<CityGpu> city_;
+    std::unique_ptr<TileStreamer> world_;
+    std::vector<TileStreamer::Drawn> drawn_;  // this frame's streamed content
+    glm::dvec3 origin_{0.0};
+    gl::Program vat_, vatDepth_, ocean_;
     gl::Texture atlas_, rooms_, roomMiddle_;
-    gl::Texture lightmaps_;      // baked lighting (lightmaps.hpp); a 1×1 black layer without a bake
+    gl::Texture noLightmaps_;    // a 1×1 black layer for what has no bake (never read: layer -1)
     bool baked_ = false, bakedOverlook_ = false;
     int roomStyles_ = 1;
     gl::Buffer materialsUbo_;
     std::vector<Vat> vats_;
-    TreeGpu trees_;
     WindSettings wind_;
     glm::dvec3 boundsMin_{-1.0}, boundsMax_{1.0};
 

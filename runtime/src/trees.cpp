@@ -1,21 +1,16 @@
 #include "trees.hpp"
 
+#include "city_gpu.hpp"
 #include "static_vertex.hpp"
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <limits>
 
 namespace dawnforge::runtime {
 
 namespace {
-
-struct TreeInstance {
-    glm::mat4 model;
-    glm::uvec4 blocks;
-    std::uint32_t building;
-    std::uint32_t pad[3];
-};
 
 bool isTreeNode(const MeshNode& n) { return n.name.starts_with("tree_"); }
 
@@ -120,40 +115,65 @@ PivotTextures uploadPivotTextures(const exporters::PivotPainter& painter) {
     return t;
 }
 
-void TreeGpu::load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi) {
+std::size_t TreeCpu::bytes() const {
+    std::size_t n = vertices.size() * sizeof(StaticVertex) + indices.size() * 4 + instances.size() * sizeof(TreeInstance);
+    for (const Species& sp : species) n += (sp.painter.pivots.size() + sp.painter.axes.size()) * sizeof(float);
+    return n;
+}
+
+TreeCpu prepareTrees(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi) {
+    TreeCpu out;
     std::vector<MeshNode> treeNodes;
     const std::vector<TreeNodes> trees = takeTrees(nodes, treeNodes);
-    treeCount_ = trees.size();
-    if (trees.empty()) return;
+    out.trees = trees.size();
+    if (trees.empty()) return out;
     const std::vector<std::vector<std::size_t>> members = groupSpecies(treeNodes, trees);
-    std::vector<StaticVertex> vertices;
-    std::vector<std::uint32_t> indices;
-    std::vector<TreeInstance> instances;
     for (std::size_t s = 0; s < members.size(); ++s) {
         const TreeNodes& first = trees[members[s][0]];
-        const exporters::PivotPainter pp = exporters::buildPivotPainter(
-            treeSpaceNodes(treeNodes, first), exporters::PivotPreset::Native, treeNodes[first.nodes[0]].name);
-        Species sp;
-        sp.textures = uploadPivotTextures(pp);
-        sp.firstIndex = std::uint32_t(indices.size());
-        sp.indexCount = std::uint32_t(pp.mesh.indices.size());
-        sp.baseVertex = std::uint32_t(vertices.size());
-        sp.firstInstance = std::uint32_t(instances.size());
+        TreeCpu::Species sp;
+        sp.painter = exporters::buildPivotPainter(treeSpaceNodes(treeNodes, first), exporters::PivotPreset::Native,
+                                                  treeNodes[first.nodes[0]].name);
+        const Mesh& mesh = sp.painter.mesh;
+        sp.firstIndex = std::uint32_t(out.indices.size());
+        sp.indexCount = std::uint32_t(mesh.indices.size());
+        sp.baseVertex = std::uint32_t(out.vertices.size());
+        sp.firstInstance = std::uint32_t(out.instances.size());
         sp.instances = std::uint32_t(members[s].size());
-        for (std::size_t i = 0; i < pp.mesh.positions.size(); ++i)
-            vertices.push_back(staticVertex(pp.mesh, i, glm::mat4(1.0f), glm::mat3(1.0f)));
-        indices.insert(indices.end(), pp.mesh.indices.begin(), pp.mesh.indices.end());
-        const Bounds box = computeBounds(pp.mesh.positions);
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+            out.vertices.push_back(staticVertex(mesh, i, glm::mat4(1.0f), glm::mat3(1.0f)));
+        out.indices.insert(out.indices.end(), mesh.indices.begin(), mesh.indices.end());
+        const Bounds box = computeBounds(mesh.positions);
         for (std::size_t t : members[s]) {
             const glm::mat4& model = treeNodes[trees[t].nodes[0]].world;
-            instances.push_back({model, blocks, 0xffffu, {0, 0, 0}});
-            growPlacedBox(box.min, box.max, model, lo, hi);
+            out.instances.push_back({model, blocks, 0xffffu, {0, 0, 0}});
+            glm::dvec3 tlo(std::numeric_limits<double>::max()), thi(-std::numeric_limits<double>::max());
+            growPlacedBox(box.min, box.max, model, tlo, thi);
+            // Swaying moves the crown by well under a metre: a metre of margin.
+            out.boxMin.push_back(glm::vec3(tlo) - 1.0f);
+            out.boxMax.push_back(glm::vec3(thi) + 1.0f);
+            lo = glm::min(lo, tlo), hi = glm::max(hi, thi);
         }
-        species_.push_back(std::move(sp));
+        sp.painter.mesh = Mesh{};  // in `vertices` now
+        out.species.push_back(std::move(sp));
     }
-    vertices_ = gl::makeBuffer(vertices);
-    indices_ = gl::makeBuffer(indices);
-    instances_ = gl::makeBuffer(instances);
+    return out;
+}
+
+void TreePrograms::make() {
+    surface = gl::makeProgram("tree.vert", "surface.frag");
+    depth = gl::makeProgram("tree.vert", "depth.frag", {"DEPTH_PASS"});
+}
+
+void TreeGpu::upload(const TreeCpu& cpu) {
+    treeCount_ = cpu.trees;
+    if (cpu.species.empty()) return;
+    for (const TreeCpu::Species& s : cpu.species)
+        species_.push_back({uploadPivotTextures(s.painter), s.firstIndex, s.indexCount, s.baseVertex, s.firstInstance, s.instances});
+    vertices_ = gl::makeBuffer(cpu.vertices);
+    indices_ = gl::makeBuffer(cpu.indices);
+    instances_ = gl::makeBuffer(nullptr, cpu.instances.size() * sizeof(TreeInstance), GL_DYNAMIC_STORAGE_BIT);
+    all_ = cpu.instances;
+    boxMin_ = cpu.boxMin, boxMax_ = cpu.boxMax;
     vao_ = gl::makeVertexArray();
     const GLuint vao = vao_.id();
     instancedLayout(vao, vertices_.id(), indices_.id(), instances_.id(), sizeof(TreeInstance), offsetof(TreeInstance, blocks),
@@ -164,27 +184,42 @@ void TreeGpu::load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& 
         glEnableVertexArrayAttrib(vao, 10 + c);
         glVertexArrayAttribBinding(vao, 10 + c, 1);
     }
-    surface_ = gl::makeProgram("tree.vert", "surface.frag");
-    depth_ = gl::makeProgram("tree.vert", "depth.frag", {"DEPTH_PASS"});
 }
 
-std::size_t TreeGpu::draw(const WindSettings& wind, double time, const glm::mat4* depthViewProj, FrameStats* stats) {
+std::size_t TreeGpu::draw(const TreePrograms& programs, const WindSettings& wind, double time, const glm::mat4& viewProj,
+                          bool depth, glm::vec3 offset, FrameStats* stats) {
     if (species_.empty()) return 0;
-    glUseProgram(depthViewProj ? depth_.id() : surface_.id());
-    if (depthViewProj) glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(*depthViewProj));
+    // The visible trees of each species, packed: each species draws its run of them.
+    visible_.clear();
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> runs;  // first visible instance, count
+    for (const Species& s : species_) {
+        const std::uint32_t first = std::uint32_t(visible_.size());
+        for (std::uint32_t i = s.firstInstance; i < s.firstInstance + s.instances; ++i)
+            if (!outsideFrustum(viewProj, boxMin_[i] + offset, boxMax_[i] + offset)) visible_.push_back(all_[i]);
+        runs.emplace_back(first, std::uint32_t(visible_.size()) - first);
+    }
+    if (visible_.empty()) return 0;
+    glNamedBufferSubData(instances_.id(), 0, GLsizeiptr(visible_.size() * sizeof(TreeInstance)), visible_.data());
+    glUseProgram(depth ? programs.depth.id() : programs.surface.id());
+    if (depth) glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(viewProj));
     const glm::vec3 d(wind.direction);
     glUniform4f(5, d.x, d.y, d.z, float(wind.speed));
     glUniform1f(6, float(time));
+    glUniform3f(8, offset.x, offset.y, offset.z);
     glBindVertexArray(vao_.id());
-    for (const Species& s : species_) {
+    std::size_t draws = 0;
+    for (std::size_t k = 0; k < species_.size(); ++k) {
+        const Species& s = species_[k];
+        if (runs[k].second == 0) continue;
         glBindTextureUnit(kPivotUnit, s.textures.pivots.id());
         glBindTextureUnit(kAxisUnit, s.textures.axes.id());
         glDrawElementsInstancedBaseVertexBaseInstance(GL_TRIANGLES, GLsizei(s.indexCount), GL_UNSIGNED_INT,
                                                       reinterpret_cast<const void*>(std::uintptr_t(s.firstIndex) * 4u),
-                                                      GLsizei(s.instances), GLint(s.baseVertex), s.firstInstance);
-        if (stats) stats->triangles += std::size_t(s.indexCount / 3) * s.instances;
+                                                      GLsizei(runs[k].second), GLint(s.baseVertex), runs[k].first);
+        if (stats) stats->triangles += std::size_t(s.indexCount / 3) * runs[k].second;
+        ++draws;
     }
-    return species_.size();
+    return draws;
 }
 
 }  // namespace dawnforge::runtime

@@ -6,6 +6,7 @@
 // tree one instance (its trunk's transform). wind.glsl bends every element about its pivot,
 // parents after children, from those textures alone: no per-element work on the CPU.
 #include "gl.hpp"
+#include "static_vertex.hpp"
 
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/exporters/pivot_painter.hpp>
@@ -27,14 +28,46 @@ struct PivotTextures {
 };
 PivotTextures uploadPivotTextures(const exporters::PivotPainter& painter);
 
+struct TreeInstance {
+    glm::mat4 model;
+    glm::uvec4 blocks;
+    std::uint32_t building;
+    std::uint32_t pad[3];
+};
+
+// The trees of a city file, ready to upload (made on any thread).
+struct TreeCpu {
+    struct Species {
+        exporters::PivotPainter painter;  // its textures; the mesh is in `vertices`
+        std::uint32_t firstIndex = 0, indexCount = 0, baseVertex = 0, firstInstance = 0, instances = 0;
+    };
+    std::vector<Species> species;
+    std::vector<StaticVertex> vertices;
+    std::vector<std::uint32_t> indices;
+    std::vector<TreeInstance> instances;
+    std::vector<glm::vec3> boxMin, boxMax;  // per instance, the tree's box placed (its frame)
+    std::size_t trees = 0;
+    std::size_t bytes() const;
+};
+
+// Takes the tree nodes out of `nodes` and grows [lo, hi] around the trees, which wear the
+// atlas blocks `blocks` (instance data, as the buildings').
+TreeCpu prepareTrees(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi);
+
+struct TreePrograms {
+    gl::Program surface, depth;
+    void make();
+};
+
 class TreeGpu {
 public:
-    // Takes the tree nodes out of `nodes` and grows [lo, hi] around the trees, which wear the
-    // atlas blocks `blocks` (instance data, as the buildings').
-    void load(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3& lo, glm::dvec3& hi);
+    void upload(const TreeCpu& cpu);
     std::size_t treeCount() const { return treeCount_; }
-    // One draw per species; `depthViewProj` selects the depth-only program (shadow map).
-    std::size_t draw(const WindSettings& wind, double time, const glm::mat4* depthViewProj, FrameStats* stats);
+    // One draw per species of the trees whose box is in the frustum of `viewProj` (render space);
+    // `depth` selects the depth-only program (shadow map), which `viewProj` then projects with;
+    // `offset`: the trees' frame relative to the render origin.
+    std::size_t draw(const TreePrograms& programs, const WindSettings& wind, double time, const glm::mat4& viewProj, bool depth,
+                     glm::vec3 offset, FrameStats* stats);
 
 private:
     struct Species {
@@ -42,9 +75,11 @@ private:
         std::uint32_t firstIndex = 0, indexCount = 0, baseVertex = 0, firstInstance = 0, instances = 0;
     };
     std::vector<Species> species_;
-    gl::Buffer vertices_, indices_, instances_;
+    gl::Buffer vertices_, indices_, instances_;  // instances_: this draw's visible trees
     gl::VertexArray vao_;
-    gl::Program surface_, depth_;
+    std::vector<TreeInstance> all_;
+    std::vector<glm::vec3> boxMin_, boxMax_;
+    std::vector<TreeInstance> visible_;
     std::size_t treeCount_ = 0;
 };
 

@@ -46,6 +46,14 @@ Json boxJson(const Box& b) {
 
 Json translation(glm::dvec2 d) { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, d.x, d.y, 0, 1}; }
 
+// The plan square [x0, y0, x1, y1] a node of `tiles` tiles a side from `origin` covers, within
+// the world: its box less the far land, which a reader measures screen-space error against.
+Json areaJson(const WorldPlan& plan, glm::dvec2 origin, int tiles) {
+    const glm::dvec2 size = plan.settings.size;
+    const glm::dvec2 hi = glm::min(origin + glm::dvec2(tiles * plan.settings.tileSize), size);
+    return {origin.x, origin.y, hi.x, hi.y};
+}
+
 struct Built {
     Json tile;
     Box box;            // in the parent's frame... here: in the tile's own frame
@@ -58,8 +66,8 @@ Built leafTile(const fs::path& worldDir, const WorldPlan& plan, const WorldTile&
     Built b;
     b.origin = glm::dvec2(t.index) * plan.settings.tileSize;
     b.box = glbBounds(worldDir / dir / "city.glb");
-    Json extras{{"tile", {t.index.x, t.index.y}}, {"origin", {b.origin.x, b.origin.y}}, {"city", dir + "/city.json"},
-                {"bake", fs::exists(worldDir / dir / "bake" / "bake.json") ? Json(dir + "/bake/bake.json") : Json(nullptr)},
+    Json extras{{"tile", {t.index.x, t.index.y}}, {"origin", {b.origin.x, b.origin.y}}, {"area", areaJson(plan, b.origin, 1)},
+                {"city", dir + "/city.json"}, {"bake", fs::exists(worldDir / dir / "bake" / "bake.json") ? Json(dir + "/bake/bake.json") : Json(nullptr)},
                 {"buildings", t.buildings.size()}};
     b.tile = {{"boundingVolume", boxJson(b.box)}, {"geometricError", 0.0}, {"content", {{"uri", dir + "/city.glb"}}},
               {"extras", std::move(extras)}};
@@ -106,7 +114,8 @@ std::vector<Built> nodeTiles(const fs::path& worldDir, const WorldPlan& plan, co
     }
     b.tile = {{"boundingVolume", boxJson(b.box)}, {"geometricError", b.error}, {"refine", "REPLACE"},
               {"content", {{"uri", "hlod/" + name + ".glb"}}},
-              {"extras", {{"hlod", name}, {"level", level}, {"origin", {b.origin.x, b.origin.y}}, {"triangles", info.at("triangles")}}},
+              {"extras", {{"hlod", name}, {"level", level}, {"origin", {b.origin.x, b.origin.y}},
+                          {"area", areaJson(plan, b.origin, 1 << level)}, {"triangles", info.at("triangles")}}},
               {"children", std::move(kids)}};
     return {std::move(b)};
 }

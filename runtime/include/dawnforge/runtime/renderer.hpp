@@ -35,6 +35,7 @@ struct ViewCamera {
 
 struct FrameSettings {
     ViewCamera camera;
+    glm::dvec3 cameraVelocity{0.0};  // m/s: a world prefetches where the camera will be in a second
     double time = 0.0;       // seconds since the scene started (destruction, waves)
     double timeOfDay = 15.0; // hours
 };
@@ -61,6 +62,25 @@ struct CapturedProbe {
     bool indoors = false;  // its IN tag (a roof above it in the overlook depth)
 };
 
+// A world's streaming in one frame (--stats "streaming").
+struct StreamingStats {
+    bool on = false;        // the scene is a world
+    int nodes = 0;          // in the tileset
+    int wanted = 0;         // nodes the camera's selection wants
+    int resident = 0;       // on the GPU
+    int drawn = 0;          // drawn this frame
+    int loading = 0;        // asked for, in a worker, or waiting to upload
+    int loads = 0;          // finished reading this frame
+    int evictions = 0;      // left the GPU this frame
+    int failed = 0;         // could not be read this frame (each warned once)
+    double residentMB = 0.0;
+    std::size_t uploadBytes = 0;
+    double uploadMs = 0.0;  // CPU time of this frame's uploads
+    double waitMs = 0.0;    // time this frame waited for its selection (render only)
+    bool waited = false;
+    bool complete = true;   // everything the camera wants is drawn
+};
+
 struct FrameStats {
     std::vector<PassTime> passes;
     double frameMs = 0.0;  // CPU wall time of the whole frame, including the final glFinish
@@ -70,6 +90,18 @@ struct FrameStats {
     std::size_t lod0Buildings = 0, lod1Buildings = 0, culledBuildings = 0;
     std::string probePreset = "off";
     ProbeStats probes;
+    StreamingStats streaming;
+};
+
+// How a world streams (ARCHITECTURE.md 7, Streaming).
+struct StreamingOptions {
+    double maxScreenError = 16.0;        // pixels: a node refines when its error on screen is larger
+    std::size_t residentBudgetMB = 1536; // GPU bytes held at most (new loads wait above it)
+    double lowWater = 0.85;              // eviction stops at this share of the budget (hysteresis)
+    std::uint64_t keepFrames = 30;       // a node used within these frames is never evicted
+    std::size_t uploadBudgetMB = 48;     // uploaded per frame at most (`render`'s waiting frame: unlimited)
+    int workers = 2;                     // threads that read and parse tiles
+    bool wait = false;                   // wait until the selection is resident (`render`: deterministic pictures)
 };
 
 struct RendererOptions {
@@ -77,6 +109,7 @@ struct RendererOptions {
     double lodDistance = 90.0;  // buildings nearer than this draw LOD0 (interiors, reveals); farther: LOD1
     int shadowMapSize = 2048;
     int probeBudget = 0;  // probes captured per frame at most; 0: all the lighting area wants (one frame converges)
+    StreamingOptions streaming;
 };
 
 class Renderer {

@@ -87,6 +87,7 @@ struct DestructionInstance {
 struct SceneFile {
     std::filesystem::path file;                    // the scene.json itself
     std::optional<std::filesystem::path> cityDir;  // holds city.glb (required there) and city.json
+    std::optional<std::filesystem::path> worldDir; // a world (tileset.json), streamed; never with cityDir
     double timeOfDay = 15.0;                       // hours [0, 24)
     double time = 0.0;                             // seconds since the scene started (what `render` draws unless --frame)
     double fps = 30.0;                             // for --frame F: time = F / fps

@@ -1,0 +1,230 @@
+#include "streaming.hpp"
+
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <set>
+
+namespace dawnforge::runtime {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+constexpr std::size_t kMB = 1024u * 1024u;
+
+}  // namespace
+
+TileStreamer::~TileStreamer() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+        queue_.clear();
+    }
+    wake_.notify_all();
+    for (std::thread& t : workers_) t.join();
+}
+
+void TileStreamer::open(const std::filesystem::path& worldDir, const StreamingOptions& options,
+                        std::map<std::uint32_t, double> until) {
+    tiles_ = readTileset(worldDir);
+    options_ = options;
+    until_ = std::move(until);
+    entries_.resize(tiles_.nodes.size());
+    const int workers = std::clamp(options.workers, 1, 16);
+    for (int k = 0; k < workers; ++k) workers_.emplace_back([this] { work(); });
+}
+
+// A worker: takes the most urgent request, reads and parses its file, hands the result back.
+void TileStreamer::work() {
+    for (;;) {
+        int node = -1;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+            if (stop_) return;
+            node = queue_.front();
+            queue_.pop_front();
+            ++busy_;  // the node stays Queued until its result is collected
+        }
+        Result r = loadNode(node);
+        {
+            std::lock_guard lock(mutex_);
+            results_.push_back(std::move(r));
+            --busy_;
+        }
+        done_.notify_all();
+    }
+}
+
+TileStreamer::Result TileStreamer::loadNode(int node) const {
+    const TileNode& n = tiles_.nodes[std::size_t(node)];
+    Result r{node, std::nullopt, {}, {}};
+    try {
+        if (n.hlod) {
+            r.city = buildCityCpu(loadMeshNodes(n.file), std::nullopt, true, until_);
+        } else {
+            const std::filesystem::path dir = n.file.parent_path();
+            if (n.file.filename() != "city.glb") throw InputError(format("{}: a tile's content must be a city folder's city.glb", n.file.string()));
+            r.city = loadCityCpu(dir, until_);
+            r.lamps = readStreetLamps(dir);
+        }
+    } catch (const std::exception& e) {
+        r.error = oneLine(e.what());
+        r.city.reset();
+    }
+    return r;
+}
+
+void TileStreamer::collect(StreamingStats& stats) {
+    std::vector<Result> results;
+    {
+        std::lock_guard lock(mutex_);
+        results.swap(results_);
+    }
+    for (Result& r : results) {
+        Entry& e = entries_[std::size_t(r.node)];
+        if (!r.city) {
+            e.state = State::Failed;
+            ++stats.failed;
+            std::fprintf(stderr, "dawnforge: warning: %s (%s): %s; its parent is drawn in its place\n",
+                         tiles_.nodes[std::size_t(r.node)].file.string().c_str(), tiles_.nodes[std::size_t(r.node)].name.c_str(),
+                         r.error.c_str());
+            continue;
+        }
+        e.gpu.emplace(std::move(*r.city));
+        e.lamps = std::move(r.lamps);
+        e.state = State::Loaded;
+        ++stats.loads;
+    }
+}
+
+std::size_t TileStreamer::residentBytes() const {
+    std::size_t n = 0;
+    for (const Entry& e : entries_)
+        if (e.gpu) n += e.gpu->bytes() ? e.gpu->bytes() : 0;
+    return n;
+}
+
+// The queue becomes the wanted nodes not yet loaded, most urgent first, while the resident
+// bytes leave room; requests nobody wants any more go back to absent.
+void TileStreamer::request(const std::vector<int>& wanted) {
+    const std::size_t budget = options_.residentBudgetMB * kMB;
+    std::size_t bytes = residentBytes();
+    std::lock_guard lock(mutex_);
+    for (int node : queue_) entries_[std::size_t(node)].state = State::Absent;
+    queue_.clear();
+    for (int node : wanted) {
+        Entry& e = entries_[std::size_t(node)];
+        if (e.state != State::Absent) continue;
+        if (bytes >= budget) break;  // coarser content keeps standing in
+        e.state = State::Queued;
+        queue_.push_back(node);
+    }
+    if (!queue_.empty()) wake_.notify_all();
+}
+
+// Loaded content to the GPU, most wanted first, until the frame's budget is spent.
+std::size_t TileStreamer::uploadSome(const std::vector<int>& wanted, std::size_t budget) {
+    std::size_t moved = 0;
+    for (int node : wanted) {
+        Entry& e = entries_[std::size_t(node)];
+        if (e.state != State::Loaded) continue;
+        if (moved >= budget) break;
+        moved += e.gpu->upload(budget - moved);
+        if (e.gpu->done()) e.state = State::Resident;
+    }
+    return moved;
+}
+
+void TileStreamer::evict(StreamingStats& stats) {
+    std::vector<ResidentTile> held;
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+        if (entries_[i].gpu) held.push_back({int(i), entries_[i].gpu->bytes(), entries_[i].lastUsed});
+    for (int node : chooseEvictions(held, options_.residentBudgetMB * kMB, options_.lowWater, frame_, options_.keepFrames)) {
+        Entry& e = entries_[std::size_t(node)];
+        e.gpu.reset();
+        e.lamps.clear();
+        e.state = State::Absent;
+        ++stats.evictions;
+    }
+}
+
+TileSelection TileStreamer::select(const SelectionCamera& camera) const {
+    return selectTiles(
+        tiles_, camera, options_.maxScreenError, [this](int i) { return entries_[std::size_t(i)].state == State::Resident; },
+        [this](int i) { return entries_[std::size_t(i)].state == State::Failed; });
+}
+
+bool TileStreamer::pending() const {
+    return busy_ > 0 || !queue_.empty() || !results_.empty();
+}
+
+void TileStreamer::update(const SelectionCamera& camera, const SelectionCamera* prefetch, StreamingStats& stats) {
+    ++frame_;
+    stats.on = true;
+    const auto t0 = Clock::now();
+    double uploadMs = 0.0;
+    for (;;) {
+        collect(stats);
+        TileSelection sel = select(camera);
+        std::vector<int> wanted = sel.wanted;
+        if (prefetch) {
+            const std::set<int> now(wanted.begin(), wanted.end());
+            for (int i : select(*prefetch).wanted)
+                if (!now.count(i)) wanted.push_back(i);
+        }
+        for (int i : wanted) entries_[std::size_t(i)].lastUsed = frame_;
+        for (int i : sel.draw) entries_[std::size_t(i)].lastUsed = frame_;
+        request(wanted);
+        const auto u0 = Clock::now();
+        const std::size_t budget = options_.wait ? std::numeric_limits<std::size_t>::max() : options_.uploadBudgetMB * kMB;
+        stats.uploadBytes += uploadSome(wanted, std::max<std::size_t>(budget, 1));
+        uploadMs += msSince(u0);
+        sel = select(camera);  // what was uploaded just now draws this frame
+        drawn_ = sel.draw;
+        // Nearest first (the depth test then rejects what they hide before it is shaded).
+        std::stable_sort(drawn_.begin(), drawn_.end(), [&](int a, int b) {
+            const TileNode &na = tiles_.nodes[std::size_t(a)], &nb = tiles_.nodes[std::size_t(b)];
+            const auto distance = [&](const TileNode& n) { return glm::length(camera.position - glm::clamp(camera.position, n.areaMin, n.areaMax)); };
+            return distance(na) < distance(nb);
+        });
+        stats.wanted = int(sel.wanted.size());
+        stats.complete = sel.complete;
+        bool busy = false;
+        {
+            std::unique_lock lock(mutex_);
+            busy = pending();
+            if (!options_.wait || sel.complete || !busy) break;
+            done_.wait_for(lock, std::chrono::milliseconds(50), [this] { return !results_.empty(); });
+        }
+        stats.waited = true;
+    }
+    evict(stats);
+    stats.uploadMs = uploadMs;
+    stats.waitMs = stats.waited ? msSince(t0) : 0.0;
+    stats.drawn = int(drawn_.size());
+    stats.nodes = int(tiles_.nodes.size());
+    stats.resident = 0;
+    stats.loading = 0;
+    for (const Entry& e : entries_) {
+        stats.resident += e.state == State::Resident;
+        stats.loading += e.state == State::Queued || e.state == State::Loaded;
+    }
+    stats.residentMB = double(residentBytes()) / double(kMB);
+}
+
+std::vector<TileStreamer::Drawn> TileStreamer::drawn() {
+    std::vector<Drawn> out;
+    for (int i : drawn_) {
+        Entry& e = entries_[std::size_t(i)];
+        if (e.state != State::Resident) continue;  // evicted since (never: what is drawn was used this frame)
+        out.push_back({&*e.gpu, tiles_.nodes[std::size_t(i)].offset, tiles_.nodes[std::size_t(i)].hlod, &e.lamps});
+    }
+    return out;
+}
+
+}  // namespace dawnforge::runtime
