@@ -229,37 +229,43 @@ std::size_t CityGpu::upload(std::size_t budget) {
         vertices_ = storage(cpu_.vertices.size() * sizeof(StaticVertex));
         indices_ = storage(cpu_.indices.size() * 4);
         instances_ = gl::makeBuffer(cpu_.instances);
-        trees_.upload(cpu_.trees);
-        moved += cpu_.instances.size() * sizeof(InstanceData) + cpu_.trees.bytes();
+        moved += cpu_.instances.size() * sizeof(InstanceData);
         if (cpu_.baked && cpu_.baked->lightmaps.layers > 0) {
             const LightmapArray& l = cpu_.baked->lightmaps;
             lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
             glTextureStorage3D(lightmaps_.id(), 2, GL_RGBA8, l.size, l.size, l.layers);
         }
     }
-    // Vertices, then indices, then the lightmap's layers, each a budget's worth at a time.
+    // The trees in one piece, then vertices, indices and the lightmap's rows, a budget's worth
+    // at a time (at least something each call).
+    if (!treesDone_ && (moved < budget || moved == 0)) {
+        trees_.upload(cpu_.trees);
+        moved += cpu_.trees.bytes();
+        treesDone_ = true;
+    }
     const auto copy = [&](GLuint buffer, const void* data, std::size_t total, std::size_t& done) {
-        if (done >= total || moved >= budget) return;
-        const std::size_t n = std::min(total - done, std::max<std::size_t>(budget - moved, 1));
+        if (done >= total || (moved >= budget && moved > 0)) return;
+        const std::size_t n = std::min(total - done, std::max<std::size_t>(budget - std::min(moved, budget), 1));
         glNamedBufferSubData(buffer, GLintptr(done), GLsizeiptr(n), static_cast<const std::uint8_t*>(data) + done);
         done += n;
         moved += n;
     };
     copy(vertices_.id(), cpu_.vertices.data(), cpu_.vertices.size() * sizeof(StaticVertex), vertexBytesDone_);
     copy(indices_.id(), cpu_.indices.data(), cpu_.indices.size() * 4, indexBytesDone_);
-    if (cpu_.baked && cpu_.baked->lightmaps.layers > 0) {
+    const int layers = cpu_.baked ? cpu_.baked->lightmaps.layers : 0;
+    while (layersDone_ < layers && (moved < budget || moved == 0)) {
         const LightmapArray& l = cpu_.baked->lightmaps;
-        while (layersDone_ < l.layers && (moved < budget || moved == 0)) {
-            glTextureSubImage3D(lightmaps_.id(), 0, 0, 0, layersDone_, l.size, l.size, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                l.rgba.data() + layerBytes(l) * std::size_t(layersDone_));
-            ++layersDone_;
-            moved += layerBytes(l);
-        }
+        const std::size_t rowBytes = std::size_t(l.size) * 4u;
+        const int rows = int(std::clamp<std::size_t>((budget - std::min(moved, budget)) / rowBytes, 1, std::size_t(l.size - rowsDone_)));
+        glTextureSubImage3D(lightmaps_.id(), 0, 0, rowsDone_, layersDone_, l.size, rows, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                            l.rgba.data() + layerBytes(l) * std::size_t(layersDone_) + rowBytes * std::size_t(rowsDone_));
+        moved += rowBytes * std::size_t(rows);
+        rowsDone_ += rows;
+        if (rowsDone_ == l.size) rowsDone_ = 0, ++layersDone_;
     }
     const bool buffersDone = vertexBytesDone_ == cpu_.vertices.size() * sizeof(StaticVertex) &&
                              indexBytesDone_ == cpu_.indices.size() * 4;
-    const bool layersDone = !cpu_.baked || layersDone_ >= cpu_.baked->lightmaps.layers;
-    if (buffersDone && layersDone) finishUpload();
+    if (treesDone_ && buffersDone && layersDone_ >= layers) finishUpload();
     return moved;
 }
 

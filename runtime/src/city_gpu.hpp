@@ -138,8 +138,8 @@ private:
 
     CityCpu cpu_;
     std::size_t vertexBytesDone_ = 0, indexBytesDone_ = 0;
-    int layersDone_ = 0;
-    bool started_ = false, done_ = false, baked_ = false;
+    int layersDone_ = 0, rowsDone_ = 0;
+    bool started_ = false, treesDone_ = false, done_ = false, baked_ = false;
     std::size_t bytes_ = 0;
     std::vector<CityBuilding> buildings_;
     std::vector<CityStatic> statics_;

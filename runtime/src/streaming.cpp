@@ -34,6 +34,13 @@ void TileStreamer::open(const std::filesystem::path& worldDir, const StreamingOp
     options_ = options;
     until_ = std::move(until);
     entries_.resize(tiles_.nodes.size());
+    // What a load will hold on the GPU, until it is known: about twice its file (vertices grow
+    // from the GLB's to 64 bytes; lightmap PNGs decode to RGBA).
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        std::error_code ec;
+        const std::uintmax_t size = tiles_.nodes[i].file.empty() ? 0 : std::filesystem::file_size(tiles_.nodes[i].file, ec);
+        entries_[i].estimate = ec ? 0 : std::size_t(2 * size);
+    }
     const int workers = std::clamp(options.workers, 1, 16);
     for (int k = 0; k < workers; ++k) workers_.emplace_back([this] { work(); });
 }
@@ -117,11 +124,14 @@ void TileStreamer::request(const std::vector<int>& wanted) {
     std::lock_guard lock(mutex_);
     for (int node : queue_) entries_[std::size_t(node)].state = State::Absent;
     queue_.clear();
+    for (const Entry& e : entries_)
+        if (e.state == State::Queued) bytes += e.estimate;  // in a worker's hands
     for (int node : wanted) {
         Entry& e = entries_[std::size_t(node)];
         if (e.state != State::Absent) continue;
-        if (bytes >= budget) break;  // coarser content keeps standing in
+        if (bytes + e.estimate > budget && bytes > 0) break;  // coarser content keeps standing in
         e.state = State::Queued;
+        bytes += e.estimate;
         queue_.push_back(node);
     }
     if (!queue_.empty()) wake_.notify_all();
@@ -140,11 +150,17 @@ std::size_t TileStreamer::uploadSome(const std::vector<int>& wanted, std::size_t
     return moved;
 }
 
-void TileStreamer::evict(StreamingStats& stats) {
+// Least recently used first, under the budget less what the wanted loads will need, so that
+// what nobody uses makes room for them.
+void TileStreamer::evict(const std::vector<int>& wanted, StreamingStats& stats) {
+    std::size_t need = 0;
+    for (int node : wanted)
+        if (entries_[std::size_t(node)].state == State::Absent) need += entries_[std::size_t(node)].estimate;
+    const std::size_t budget = options_.residentBudgetMB * kMB;
     std::vector<ResidentTile> held;
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (entries_[i].gpu) held.push_back({int(i), entries_[i].gpu->bytes(), entries_[i].lastUsed});
-    for (int node : chooseEvictions(held, options_.residentBudgetMB * kMB, options_.lowWater, frame_, options_.keepFrames)) {
+    for (int node : chooseEvictions(held, budget - std::min(need, budget), options_.lowWater, frame_, options_.keepFrames)) {
         Entry& e = entries_[std::size_t(node)];
         e.gpu.reset();
         e.lamps.clear();
@@ -179,6 +195,7 @@ void TileStreamer::update(const SelectionCamera& camera, const SelectionCamera* 
         }
         for (int i : wanted) entries_[std::size_t(i)].lastUsed = frame_;
         for (int i : sel.draw) entries_[std::size_t(i)].lastUsed = frame_;
+        evict(wanted, stats);  // first: what nobody uses makes room for what is wanted
         request(wanted);
         const auto u0 = Clock::now();
         const std::size_t budget = options_.wait ? std::numeric_limits<std::size_t>::max() : options_.uploadBudgetMB * kMB;
@@ -203,7 +220,6 @@ void TileStreamer::update(const SelectionCamera& camera, const SelectionCamera* 
         }
         stats.waited = true;
     }
-    evict(stats);
     stats.uploadMs = uploadMs;
     stats.waitMs = stats.waited ? msSince(t0) : 0.0;
     stats.drawn = int(drawn_.size());

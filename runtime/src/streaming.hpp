@@ -52,6 +52,7 @@ private:
         std::optional<CityGpu> gpu;
         std::vector<StreetLamp> lamps;
         std::uint64_t lastUsed = 0;
+        std::size_t estimate = 0;  // bytes it will hold once loaded (2 × its file)
     };
     struct Result {
         int node;
@@ -65,7 +66,7 @@ private:
     void collect(StreamingStats& stats);
     void request(const std::vector<int>& wanted);
     std::size_t uploadSome(const std::vector<int>& wanted, std::size_t budget);
-    void evict(StreamingStats& stats);
+    void evict(const std::vector<int>& wanted, StreamingStats& stats);
     TileSelection select(const SelectionCamera& camera) const;
     std::size_t residentBytes() const;
     bool pending() const;

@@ -60,14 +60,14 @@ struct Reader {
         n.boxMin = glm::min(lo, hi) + n.offset;
         n.boxMax = glm::max(lo, hi) + n.offset;
         n.areaMin = n.boxMin, n.areaMax = n.boxMax;
-        // extras.area: the plan square [x0, y0, x1, y1] the node stands for, far land excluded.
+        // extras.area: the square [x0, y0, x1, y1] the node stands for in its frame, far land excluded.
         const Json* extras = tile.contains("extras") ? &tile.at("extras") : nullptr;
         if (extras && extras->is_object() && extras->contains("area")) {
             const Json& a = extras->at("area");
             if (!a.is_array() || a.size() != 4 || !std::all_of(a.begin(), a.end(), [](const Json& x) { return x.is_number(); }))
                 fail(format("{}: \"extras.area\" is not 4 numbers", name));
-            const glm::dvec3 p = toRuntime({a[0].get<double>(), a[1].get<double>(), 0.0});
-            const glm::dvec3 q = toRuntime({a[2].get<double>(), a[3].get<double>(), 0.0});
+            const glm::dvec3 p = toRuntime({a[0].get<double>(), a[1].get<double>(), 0.0}) + n.offset;
+            const glm::dvec3 q = toRuntime({a[2].get<double>(), a[3].get<double>(), 0.0}) + n.offset;
             n.areaMin = glm::dvec3(std::max(n.boxMin.x, std::min(p.x, q.x)), n.boxMin.y, std::max(n.boxMin.z, std::min(p.z, q.z)));
             n.areaMax = glm::dvec3(std::min(n.boxMax.x, std::max(p.x, q.x)), n.boxMax.y, std::min(n.boxMax.z, std::max(p.z, q.z)));
             n.areaMax = glm::max(n.areaMax, n.areaMin);

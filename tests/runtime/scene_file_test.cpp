@@ -245,6 +245,28 @@ TEST(SceneFile, ParseErrorsGiveTheLine) {
     EXPECT_TRUE(contains(inputErrorOf([&] { parseSceneJson("[1, 2]", kFile); }), "object"));
 }
 
+// "world" names a folder that `world build` made; a scene names a city or a world, not both.
+TEST(SceneFile, AWorldInsteadOfACity) {
+    const test::TempDir dir;
+    const std::filesystem::path scene = dir / "scene.json";
+    const SceneFile s = parseSceneJson(R"({"format": "dawnforge.scene", "version": 1, "world": "w"})", scene);
+    ASSERT_TRUE(s.worldDir.has_value());
+    EXPECT_EQ(*s.worldDir, dir / "w");
+    EXPECT_FALSE(s.cityDir.has_value());
+    EXPECT_EQ(parseSceneJson(sceneFileJson(s, dir.path()), scene).worldDir, s.worldDir);
+    EXPECT_TRUE(contains(inputErrorOf([&] {
+        parseSceneJson(R"({"format": "dawnforge.scene", "version": 1, "world": "w", "city": "c"})", scene);
+    }), "both"));
+    test::writeText(scene, R"({"format": "dawnforge.scene", "version": 1, "world": "w"})");
+    EXPECT_TRUE(contains(inputErrorOf([&] { loadSceneFile(scene); }), "does not exist"));
+    std::filesystem::create_directory(dir / "w");
+    const std::string message = inputErrorOf([&] { loadSceneFile(scene); });
+    EXPECT_TRUE(contains(message, "tileset.json")) << message;
+    EXPECT_TRUE(contains(message, "world build")) << message;
+    test::writeText(dir / "w" / "tileset.json", "{}");  // only its presence is checked here
+    EXPECT_EQ(loadSceneFile(scene).worldDir, dir / "w");
+}
+
 TEST(SceneFile, LoadChecksTheFolders) {
     const test::TempDir dir;
     const std::filesystem::path scene = dir / "scene.json";

@@ -30,7 +30,7 @@ Json worldTileset() {
                              {"geometricError", 0.0},
                              {"transform", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, x, y, 0, 1}},
                              {"content", {{"uri", "tiles/" + std::to_string(i) + "_" + std::to_string(j) + "/city.glb"}}},
-                             {"extras", {{"tile", {i, j}}, {"origin", {x, y}}, {"area", {x, y, x + 128, y + 128}}}}});
+                             {"extras", {{"tile", {i, j}}, {"origin", {x, y}}, {"area", {0, 0, 128, 128}}}}});
         }
     // Around its children's boxes: x from −1000 (tile 0's far land) to 756 (tile 1's).
     Json hlod{{"boundingVolume", {{"box", {-122, 128, 10, 878, 0, 0, 0, 128, 0, 0, 0, 12}}}},

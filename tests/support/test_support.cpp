@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,6 +98,24 @@ RunResult run(const std::string& program, const std::vector<std::string>& args) 
 }
 
 RunResult runDawnforge(const std::vector<std::string>& args) { return run(DAWNFORGE_EXE, args); }
+
+const fs::path& streamWorld() {
+    static const fs::path dir = [] {
+        const fs::path d = fs::path(DAWNFORGE_TEST_WORK) / "stream-world";
+        fs::create_directories(d.parent_path());
+        const int fd = ::open((d.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0644);
+        if (fd < 0 || ::flock(fd, LOCK_EX) != 0) throw std::runtime_error("cannot lock " + d.string() + ".lock");
+        const RunResult p = runDawnforge({"-q", "world", "plan", d.string(), "--size", "256x256", "--tile-size", "128", "--seed", "5",
+                                          "--bake-texel", "2", "--bake-interior-texel", "4", "--bake-ground-texel", "8",
+                                          "--bake-samples", "2", "--bake-sun-samples", "2", "--bake-bounces", "1"});
+        const RunResult b = p.exitCode == 0 ? runDawnforge({"-q", "world", "build", d.string(), "--stages", "city,bake,hlod"}) : p;
+        ::flock(fd, LOCK_UN);
+        ::close(fd);
+        if (b.exitCode != 0) throw std::runtime_error("building the test world failed: " + b.err);
+        return d;
+    }();
+    return dir;
+}
 
 void expectValidGltf(const fs::path& file) {
     const fs::path validator(DAWNFORGE_GLTF_VALIDATOR);

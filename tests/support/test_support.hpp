@@ -42,6 +42,11 @@ struct RunResult {
 RunResult run(const std::string& program, const std::vector<std::string>& args);
 // Runs the dawnforge executable under test.
 RunResult runDawnforge(const std::vector<std::string>& args);
+// The world the streaming tests draw: 2 × 2 tiles of 128 m (seed 5) with a quick bake and one
+// HLOD node, made by `dawnforge world plan` and `world build` once per build tree (in
+// DAWNFORGE_TEST_WORK, under a lock: a second test process waits, then finds it built).
+const std::filesystem::path& streamWorld();
+
 // Runs the Khronos glTF-Validator (tools/gltf-validator) over one file and expects no
 // error. Without node or the validator's npm package, the check is skipped: the test is
 // reported as skipped with the reason, unless one of its other checks fails.

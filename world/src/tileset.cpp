@@ -46,12 +46,12 @@ Json boxJson(const Box& b) {
 
 Json translation(glm::dvec2 d) { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, d.x, d.y, 0, 1}; }
 
-// The plan square [x0, y0, x1, y1] a node of `tiles` tiles a side from `origin` covers, within
-// the world: its box less the far land, which a reader measures screen-space error against.
+// The square [x0, y0, x1, y1] a node of `tiles` tiles a side from `origin` covers within the
+// world, in the node's frame (as its box): the box less the far land, which a reader measures
+// screen-space error against.
 Json areaJson(const WorldPlan& plan, glm::dvec2 origin, int tiles) {
-    const glm::dvec2 size = plan.settings.size;
-    const glm::dvec2 hi = glm::min(origin + glm::dvec2(tiles * plan.settings.tileSize), size);
-    return {origin.x, origin.y, hi.x, hi.y};
+    const glm::dvec2 hi = glm::min(origin + glm::dvec2(tiles * plan.settings.tileSize), plan.settings.size) - origin;
+    return {0.0, 0.0, hi.x, hi.y};
 }
 
 struct Built {

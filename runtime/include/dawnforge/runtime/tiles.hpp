@@ -25,7 +25,7 @@ struct TileNode {
     double geometricError = 0.0;  // metres
     glm::dvec3 offset{0.0};       // the content's frame, runtime coordinates
     glm::dvec3 boxMin{0.0}, boxMax{0.0};    // bounding volume, runtime coordinates (culling)
-    glm::dvec3 areaMin{0.0}, areaMax{0.0};  // the box less the far land (extras.area): what error is measured from
+    glm::dvec3 areaMin{0.0}, areaMax{0.0};  // the box less the far land (extras.area, in its frame): what error is measured from
     int parent = -1, depth = 0;
     std::vector<int> children;
 };
