@@ -18,6 +18,8 @@ layout(location = 8) uniform vec3 modelOffset;  // the mesh's frame in render sp
 #ifdef DEPTH_PASS
 layout(location = 0) uniform mat4 depthViewProj;
 #endif
+// The depth pre-pass and the colour pass compute the same position to the bit.
+invariant gl_Position;
 void main() {
     vec3 world = aPosition + modelOffset;
 #ifdef DEPTH_PASS

@@ -20,6 +20,8 @@ layout(location = 0) uniform mat4 depthViewProj;
 layout(location = 5) uniform vec4 wind;   // xyz: unit, level, where it blows to (world); w: speed (m/s)
 layout(location = 6) uniform float windTime;
 layout(location = 8) uniform vec3 modelOffset;  // the trees' frame in render space (camera-relative)
+// The depth pre-pass and the colour pass compute the same position to the bit.
+invariant gl_Position;
 void main() {
     vec3 p = aPosition, n = aNormal;
     vec3 windDir = normalize(transpose(mat3(aModel)) * wind.xyz);

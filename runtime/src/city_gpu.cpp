@@ -321,19 +321,23 @@ std::size_t CityGpu::drawDepth(const CityPrograms& p, IndirectDraws& indirect, c
 }
 
 std::size_t CityGpu::drawOpaque(const CityPrograms& p, IndirectDraws& indirect, const CityDraw& d, const WindSettings& wind,
-                                int roomStyles, FrameStats& stats) {
+                                int roomStyles, FrameStats* stats) {
     if (!done_) return 0;
+    const bool depthOnly = stats == nullptr;
+    FrameStats scratch;  // the depth pre-pass counts nothing
+    FrameStats& st = stats ? *stats : scratch;
     std::size_t draws = 0;
     if (!statics_.empty() || !buildings_.empty()) {
-        glUseProgram(p.surface.id());
-        glUniform1i(4, roomStyles);
+        glUseProgram(depthOnly ? p.depth.id() : p.surface.id());
+        if (depthOnly) glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(d.viewProj));
+        else glUniform1i(4, roomStyles);
         glUniform3f(8, d.offset.x, d.offset.y, d.offset.z);
-        if (lightmaps_) glBindTextureUnit(8, lightmaps_.id());
+        if (lightmaps_ && !depthOnly) glBindTextureUnit(8, lightmaps_.id());
         std::vector<IndirectDraws::Command> commands;
         for (const CityStatic& s : statics_) {
             if (outsideFrustum(d.viewProj, s.min + d.offset, s.max + d.offset)) continue;
             commands.push_back({s.range.count, 1, s.range.firstIndex, s.range.baseVertex, s.instance});
-            stats.triangles += s.range.count / 3;
+            st.triangles += s.range.count / 3;
         }
         // Buildings nearest first: what they hide fails the depth test before it is shaded.
         std::vector<std::pair<double, std::size_t>> order;
@@ -341,7 +345,7 @@ std::size_t CityGpu::drawOpaque(const CityPrograms& p, IndirectDraws& indirect, 
             const CityBuilding& b = buildings_[k];
             if (d.time >= b.until) continue;  // its destruction has taken its place
             if (outsideFrustum(d.viewProj, b.min + d.offset, b.max + d.offset)) {
-                ++stats.culledBuildings;
+                ++st.culledBuildings;
                 continue;
             }
             order.emplace_back(glm::length(glm::clamp(d.camera, glm::dvec3(b.min), glm::dvec3(b.max)) - d.camera), k);
@@ -352,14 +356,14 @@ std::size_t CityGpu::drawOpaque(const CityPrograms& p, IndirectDraws& indirect, 
             // A building that a destruction replaces draws LOD0 at any distance, as its pieces do.
             const bool near = distance < d.lodDistance || b.until < std::numeric_limits<double>::infinity();
             const DrawRange& r = near ? b.lod0 : b.lod1;
-            ++(near ? stats.lod0Buildings : stats.lod1Buildings);
+            ++(near ? st.lod0Buildings : st.lod1Buildings);
             commands.push_back({r.count, 1, r.firstIndex, r.baseVertex, b.instance});
-            stats.triangles += r.count / 3;
+            st.triangles += r.count / 3;
         }
         indirect.draw(vao_.id(), commands);
         draws = commands.empty() ? 0 : 1;
     }
-    return draws + trees_.draw(p.trees, wind, d.time, d.viewProj, false, d.offset, &stats);
+    return draws + trees_.draw(p.trees, wind, d.time, d.viewProj, depthOnly, d.offset, stats);
 }
 
 }  // namespace dawnforge::runtime

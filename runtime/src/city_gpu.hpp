@@ -130,8 +130,10 @@ public:
     // Depth of the ground and every building's LOD1 shell standing at `time`, and the trees (swaying).
     std::size_t drawDepth(const CityPrograms& p, IndirectDraws& indirect, const glm::mat4& viewProj, glm::vec3 offset,
                           double time, const WindSettings* wind);
+    // The ground, the buildings (culled, LOD by distance, nearest first) and the trees; with
+    // `stats` null, their depth alone (the opaque pass's pre-pass).
     std::size_t drawOpaque(const CityPrograms& p, IndirectDraws& indirect, const CityDraw& d, const WindSettings& wind,
-                           int roomStyles, FrameStats& stats);
+                           int roomStyles, FrameStats* stats);
 
 private:
     void finishUpload();

@@ -134,12 +134,20 @@ void SceneGpu::loadOverlook(const OverlookDepth& o) {
     bakedOverlook_ = true;
 }
 
-// A destruction may replace only a building the city has (a world's tiles are checked as they load).
+// A destruction may replace only a building the city has (a world: its plan.json's tiles own).
 void SceneGpu::checkReplaced(const SceneFile& scene) const {
-    if (!city_) return;
-    for (const DestructionInstance& d : scene.destruction)
-        if (d.replaces && !city_->hasBuilding(std::uint32_t(*d.replaces)))
+    const bool any = std::any_of(scene.destruction.begin(), scene.destruction.end(),
+                                 [](const DestructionInstance& d) { return d.replaces.has_value(); });
+    if (!any) return;
+    const std::optional<std::set<std::uint32_t>> world = scene.worldDir ? worldBuildings(*scene.worldDir) : std::nullopt;
+    for (const DestructionInstance& d : scene.destruction) {
+        if (!d.replaces) continue;
+        const auto id = std::uint32_t(*d.replaces);
+        if (city_ && !city_->hasBuilding(id))
             throw InputError(format("destruction {}: \"replaces\": the city has no building {}", d.name, *d.replaces));
+        if (world && !world->count(id))
+            throw InputError(format("destruction {}: \"replaces\": the world has no building {}", d.name, *d.replaces));
+    }
 }
 
 void SceneGpu::loadVat(const DestructionInstance& d) {
@@ -356,14 +364,27 @@ std::size_t SceneGpu::drawShadow(double time) {
     return draws + drawVats(time, true, nullptr);
 }
 
+// Depth first, then colour where the depth is the nearest: llvmpipe shades each pixel once
+// instead of once per surface over it (the HLOD meshes are one draw each, in no order).
 std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time,
                                  FrameStats& stats) {
     std::size_t draws = 0;
-    if (city_) draws += city_->drawOpaque(programs_, indirect_, {glm::vec3(0.0f), camera, viewProj, lodDistance, time}, wind_,
-                                          roomStyles_, stats);
-    for (const TileStreamer::Drawn& d : drawn_)
-        draws += d.city->drawOpaque(programs_, indirect_, {offsetOf(d.offset), camera - d.offset, viewProj, lodDistance, time},
-                                    wind_, roomStyles_, stats);
+    const auto drawAll = [&](FrameStats* st) {
+        if (city_)
+            draws += city_->drawOpaque(programs_, indirect_, {glm::vec3(0.0f), camera, viewProj, lodDistance, time}, wind_,
+                                       roomStyles_, st);
+        for (const TileStreamer::Drawn& d : drawn_)
+            draws += d.city->drawOpaque(programs_, indirect_, {offsetOf(d.offset), camera - d.offset, viewProj, lodDistance, time},
+                                        wind_, roomStyles_, st);
+    };
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    drawAll(nullptr);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    drawAll(&stats);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
     glBindTextureUnit(8, noLightmaps_.id());
     return draws;
 }

@@ -2,6 +2,9 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
+#include <dawnforge/core/read_file.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -17,6 +20,21 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 constexpr std::size_t kMB = 1024u * 1024u;
 
 }  // namespace
+
+std::optional<std::set<std::uint32_t>> worldBuildings(const std::filesystem::path& worldDir) {
+    const std::filesystem::path file = worldDir / "plan.json";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) return std::nullopt;
+    try {
+        const nlohmann::json plan = nlohmann::json::parse(readTextFile(file));
+        std::set<std::uint32_t> ids;
+        for (const nlohmann::json& tile : plan.at("tiles"))
+            for (const nlohmann::json& id : tile.at("buildings")) ids.insert(id.get<std::uint32_t>());
+        return ids;
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(format("{}: not a world plan ({})", file.string(), oneLine(e.what())));
+    }
+}
 
 TileStreamer::~TileStreamer() {
     {

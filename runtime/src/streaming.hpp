@@ -16,10 +16,14 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <thread>
 #include <vector>
 
 namespace dawnforge::runtime {
+
+// The ids of the buildings a world's plan.json gives its tiles; none when it has no plan.json.
+std::optional<std::set<std::uint32_t>> worldBuildings(const std::filesystem::path& worldDir);
 
 class TileStreamer {
 public:

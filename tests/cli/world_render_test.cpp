@@ -58,6 +58,23 @@ TEST(CliWorldRender, SameBytesOnOneAndThreeLlvmpipeThreads) {
     EXPECT_NE(images["street1"], images["aerial1"]);
 }
 
+// `view` of a world: it streams without waiting, frame after frame, in a window.
+TEST(CliWorldRender, ViewFliesThroughAWorld) {
+    if (!fs::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run is not installed (./run installs it)";
+    test::TempDir dir;
+    writeScene(dir / "scene.json", "\"world\": \"" + test::streamWorld().string() + "\"");
+    // The X and GLX client libraries keep allocations until exit (see CliView): no leak check here.
+    const char* asan = std::getenv("ASAN_OPTIONS");
+    const std::string saved = asan ? asan : "";
+    setenv("ASAN_OPTIONS", (saved.empty() ? std::string("detect_leaks=0") : saved + ":detect_leaks=0").c_str(), 1);
+    const RunResult r = test::run("/usr/bin/xvfb-run", {"-a", "-s", "-screen 0 640x480x24", DAWNFORGE_EXE, "view",
+                                                        (dir / "scene.json").string(), "--size", "320x240", "--frames", "40"});
+    if (asan) setenv("ASAN_OPTIONS", saved.c_str(), 1);
+    else unsetenv("ASAN_OPTIONS");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::contains(r.out, "showed 40 frames")) << r.out;
+}
+
 TEST(CliWorldRender, BadWorldsExit2WithOneLineAndNoPicture) {
     test::TempDir dir;
     fs::create_directories(dir / "unbuilt");

@@ -10,6 +10,8 @@
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 
+#include "streaming.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
@@ -263,6 +265,17 @@ TEST(Streaming, AMissingTileIsDrawnAsItsParent) {
     EXPECT_TRUE(s.streaming.complete);
     EXPECT_EQ(s.streaming.drawn, 1);  // the HLOD, for all four
     EXPECT_EQ(s.lod0Buildings + s.lod1Buildings, 0u);
+}
+
+// What a destruction may replace in a world: the buildings its plan gives its tiles.
+TEST(Streaming, TheWorldsBuildingsComeFromItsPlan) {
+    const std::optional<std::set<std::uint32_t>> ids = runtime::worldBuildings(smallWorld());
+    ASSERT_TRUE(ids.has_value());
+    EXPECT_EQ(ids->size(), 62u);  // `world plan` said so
+    EXPECT_FALSE(runtime::worldBuildings(smallWorld() / "tiles").has_value());  // no plan.json there
+    test::TempDir dir;
+    test::writeText(dir / "plan.json", R"({"tiles": [{"buildings": ["seven"]}]})");
+    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { runtime::worldBuildings(dir.path()); }), "not a world plan"));
 }
 
 TEST(Streaming, ProbesAreRefusedInAWorld) {
