@@ -1,10 +1,12 @@
 // A fly-through of a streamed world (issue 25's budgets), headless at 1280 × 720:
-//   build/bin/stream_bench WORLD_DIR [--street X0,Z0,X1,Z1] [--city CITY_DIR] [--size WxH] [--frames N]
+//   build/bin/stream_bench WORLD_DIR [--street X0,Z0,X1,Z1] [--city CITY_DIR] [--size WxH] [--frames N] [--fps F]
 // The camera walks 1.7 m above a street at 1.5 m per frame (45 m/s at 30 frames a second: a
 // fast fly-through that crosses tile borders), then climbs to 500 m over 90 frames looking down
 // at the world's centre. The street: --street in runtime coordinates (x, −north), by default the
 // longest major street of the world's centre tile (its city.json). Streaming as `view` streams:
-// no frame waits; loads on two worker threads, uploads within the per-frame budget.
+// no frame waits; loads on two worker threads, uploads within the per-frame budget. Frames are
+// paced at --fps (30; 0: as fast as they go): a frame that finishes sooner sleeps the rest, so
+// on a fast GPU the camera moves at the speed it would in `view` and loading has its real time.
 // Prints JSON: per phase (street, climb, all) the p50 / p95 / max frame time (CPU wall of the
 // whole frame, finished with glFinish), triangles drawn, peak resident MB, upload ms, frames that
 // drew a stand-in while tiles loaded ("waiting_frames"), loads and evictions; the process's peak
@@ -26,6 +28,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace dawnforge;
@@ -41,6 +44,7 @@ struct Options {
     bool haveStreet = false;
     glm::ivec2 size{1280, 720};
     int streetFrames = 240, climbFrames = 90;
+    double fps = 30.0;
 };
 
 // The longest major street of the centre tile, in runtime coordinates.
@@ -144,6 +148,8 @@ Options parse(int argc, char** argv) {
             o.city = value;
         } else if (key == "--size") {
             std::sscanf(value.c_str(), "%dx%d", &o.size.x, &o.size.y);
+        } else if (key == "--fps") {
+            o.fps = std::atof(value.c_str());
         } else if (key == "--frames") {
             o.streetFrames = std::atoi(value.c_str());
         } else {
@@ -193,7 +199,9 @@ int main(int argc, char** argv) try {
     {
         Renderer renderer(scene, ro);
         for (int k = 0; k < o.streetFrames + o.climbFrames; ++k) {
+            const auto start = std::chrono::steady_clock::now();
             const FrameStats s = renderer.render(path.frame(k));
+            if (o.fps > 0.0) std::this_thread::sleep_until(start + std::chrono::duration<double>(1.0 / o.fps));
             const StreamingStats& st = s.streaming;
             (k < o.streetFrames ? street : climb)
                 .push_back({s.frameMs, s.triangles, st.residentMB, st.uploadMs, !st.complete, st.loads, st.evictions});
@@ -205,6 +213,7 @@ int main(int argc, char** argv) try {
     Json out{{"device", context->description()},
              {"world", o.world.string()},
              {"size", {o.size.x, o.size.y}},
+             {"fps", o.fps},
              {"street", {o.street.x, o.street.y, o.street.z, o.street.w}},
              {"street_phase", summary(street)},
              {"climb_phase", summary(climb)},
