@@ -18,7 +18,24 @@ constexpr int kMaterials = 16;
 // The far land is a backdrop: the shadow map, the overlook and a world's areas fit the city, not it.
 bool isFarLand(const std::string& name) { return name.starts_with("land_"); }
 
-std::size_t layerBytes(const LightmapArray& l) { return std::size_t(l.size) * std::size_t(l.size) * 4u; }
+// The lightmaps' second level: each texel the rounded mean of the 2 × 2 below it (the charts'
+// blocks are aligned so that it never mixes two charts), made on the loading thread so the
+// frame's thread only copies it.
+std::vector<std::uint8_t> halfLevel(const LightmapArray& l) {
+    const std::size_t n = std::size_t(l.size), h = n / 2;
+    std::vector<std::uint8_t> out(h * h * 4u * std::size_t(l.layers));
+    for (std::size_t layer = 0; layer < std::size_t(l.layers); ++layer) {
+        const std::uint8_t* src = l.rgba.data() + layer * n * n * 4u;
+        std::uint8_t* dst = out.data() + layer * h * h * 4u;
+        for (std::size_t y = 0; y < h; ++y)
+            for (std::size_t x = 0; x < h; ++x)
+                for (std::size_t c = 0; c < 4; ++c) {
+                    const auto at = [&](std::size_t dx, std::size_t dy) { return unsigned(src[((2 * y + dy) * n + 2 * x + dx) * 4u + c]); };
+                    dst[(y * h + x) * 4u + c] = std::uint8_t((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2u) / 4u);
+                }
+    }
+    return out;
+}
 
 }  // namespace
 
@@ -98,7 +115,7 @@ StaticVertex staticVertex(const Mesh& m, std::size_t i, const glm::mat4& world, 
 std::size_t CityCpu::bytes() const {
     std::size_t n = vertices.size() * sizeof(StaticVertex) + indices.size() * 4 + instances.size() * sizeof(InstanceData) +
                     trees.bytes();
-    if (baked) n += layerBytes(baked->lightmaps) * std::size_t(baked->lightmaps.layers) * 5 / 4;  // and mip 1
+    if (baked) n += baked->lightmaps.rgba.size() + lightmapMip1.size();
     return n;
 }
 
@@ -187,6 +204,7 @@ CityCpu buildCityCpu(std::vector<MeshNode> nodes, std::optional<BakedCity> baked
         if (b.lod1.count == 0) b.lod1 = b.lod0;
     }
     if (out.baked && out.baked->lightmaps.layers == 0) out.baked->lightmaps = LightmapArray{};
+    if (out.baked) out.lightmapMip1 = halfLevel(out.baked->lightmaps);
     return out;
 }
 
@@ -252,25 +270,28 @@ std::size_t CityGpu::upload(std::size_t budget) {
     };
     copy(vertices_.id(), cpu_.vertices.data(), cpu_.vertices.size() * sizeof(StaticVertex), vertexBytesDone_);
     copy(indices_.id(), cpu_.indices.data(), cpu_.indices.size() * 4, indexBytesDone_);
+    // The lightmap array's rows, level 0 then level 1, layer by layer.
     const int layers = cpu_.baked ? cpu_.baked->lightmaps.layers : 0;
-    while (layersDone_ < layers && (moved < budget || moved == 0)) {
+    while (layers > 0 && levelsDone_ < 2 && (moved < budget || moved == 0)) {
         const LightmapArray& l = cpu_.baked->lightmaps;
-        const std::size_t rowBytes = std::size_t(l.size) * 4u;
-        const int rows = int(std::clamp<std::size_t>((budget - std::min(moved, budget)) / rowBytes, 1, std::size_t(l.size - rowsDone_)));
-        glTextureSubImage3D(lightmaps_.id(), 0, 0, rowsDone_, layersDone_, l.size, rows, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                            l.rgba.data() + layerBytes(l) * std::size_t(layersDone_) + rowBytes * std::size_t(rowsDone_));
+        const int size = l.size >> levelsDone_;
+        const std::uint8_t* data = levelsDone_ == 0 ? l.rgba.data() : cpu_.lightmapMip1.data();
+        const std::size_t rowBytes = std::size_t(size) * 4u;
+        const int rows = int(std::clamp<std::size_t>((budget - std::min(moved, budget)) / rowBytes, 1, std::size_t(size - rowsDone_)));
+        glTextureSubImage3D(lightmaps_.id(), levelsDone_, 0, rowsDone_, layersDone_, size, rows, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                            data + rowBytes * (std::size_t(size) * std::size_t(layersDone_) + std::size_t(rowsDone_)));
         moved += rowBytes * std::size_t(rows);
         rowsDone_ += rows;
-        if (rowsDone_ == l.size) rowsDone_ = 0, ++layersDone_;
+        if (rowsDone_ == size) rowsDone_ = 0, ++layersDone_;
+        if (layersDone_ == layers) layersDone_ = 0, ++levelsDone_;
     }
     const bool buffersDone = vertexBytesDone_ == cpu_.vertices.size() * sizeof(StaticVertex) &&
                              indexBytesDone_ == cpu_.indices.size() * 4;
-    if (treesDone_ && buffersDone && layersDone_ >= layers) finishUpload();
+    if (treesDone_ && buffersDone && (layers == 0 || levelsDone_ == 2)) finishUpload();
     return moved;
 }
 
-// Two mip levels of the lightmaps (bake/charts.hpp: kLightmapLevels), the second averaged by GL:
-// the charts' blocks are aligned so that it never mixes two charts.
+// Two mip levels of the lightmaps (bake/charts.hpp: kLightmapLevels), both uploaded.
 void CityGpu::finishUpload() {
     vao_ = gl::makeVertexArray();
     instancedLayout(vao_.id(), vertices_.id(), indices_.id(), instances_.id(), sizeof(InstanceData),
@@ -282,7 +303,6 @@ void CityGpu::finishUpload() {
         glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTextureParameteri(id, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         glTextureParameteri(id, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-        glGenerateTextureMipmap(id);
         baked_ = true;
     }
     buildings_ = std::move(cpu_.buildings);

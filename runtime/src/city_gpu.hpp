@@ -65,6 +65,7 @@ struct CityCpu {
     std::vector<CityStatic> statics;
     TreeCpu trees;
     std::optional<BakedCity> baked;
+    std::vector<std::uint8_t> lightmapMip1;  // the lightmaps' level 1, layer after layer
     // In the city's frame: everything but the far land (land_*) / everything.
     glm::dvec3 boundsMin{std::numeric_limits<double>::max()}, boundsMax{-std::numeric_limits<double>::max()};
     glm::dvec3 fullMin{std::numeric_limits<double>::max()}, fullMax{-std::numeric_limits<double>::max()};
@@ -140,7 +141,7 @@ private:
 
     CityCpu cpu_;
     std::size_t vertexBytesDone_ = 0, indexBytesDone_ = 0;
-    int layersDone_ = 0, rowsDone_ = 0;
+    int levelsDone_ = 0, layersDone_ = 0, rowsDone_ = 0;
     bool started_ = false, treesDone_ = false, done_ = false, baked_ = false;
     std::size_t bytes_ = 0;
     std::vector<CityBuilding> buildings_;

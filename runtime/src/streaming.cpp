@@ -21,6 +21,24 @@ constexpr std::size_t kMB = 1024u * 1024u;
 
 }  // namespace
 
+namespace {
+
+// What a node's content will hold on the GPU, until it is known: about twice its GLB (vertices
+// grow to 64 bytes) and, for a tile, about four times its bake's PNGs (decoded to RGBA, two
+// levels, in shelves with some room left).
+std::size_t estimateBytes(const TileNode& node) {
+    if (node.file.empty()) return 0;
+    std::error_code ec;
+    std::size_t bytes = 2 * std::size_t(std::filesystem::file_size(node.file, ec));
+    if (ec) return 0;
+    if (node.hlod) return bytes;
+    for (const auto& e : std::filesystem::directory_iterator(node.file.parent_path() / "bake", ec))
+        if (e.path().extension() == ".png") bytes += 4 * std::size_t(e.file_size(ec));
+    return bytes;
+}
+
+}  // namespace
+
 std::optional<std::set<std::uint32_t>> worldBuildings(const std::filesystem::path& worldDir) {
     const std::filesystem::path file = worldDir / "plan.json";
     std::error_code ec;
@@ -52,13 +70,7 @@ void TileStreamer::open(const std::filesystem::path& worldDir, const StreamingOp
     options_ = options;
     until_ = std::move(until);
     entries_.resize(tiles_.nodes.size());
-    // What a load will hold on the GPU, until it is known: about twice its file (vertices grow
-    // from the GLB's to 64 bytes; lightmap PNGs decode to RGBA).
-    for (std::size_t i = 0; i < entries_.size(); ++i) {
-        std::error_code ec;
-        const std::uintmax_t size = tiles_.nodes[i].file.empty() ? 0 : std::filesystem::file_size(tiles_.nodes[i].file, ec);
-        entries_[i].estimate = ec ? 0 : std::size_t(2 * size);
-    }
+    for (std::size_t i = 0; i < entries_.size(); ++i) entries_[i].estimate = estimateBytes(tiles_.nodes[i]);
     const int workers = std::clamp(options.workers, 1, 16);
     for (int k = 0; k < workers; ++k) workers_.emplace_back([this] { work(); });
 }

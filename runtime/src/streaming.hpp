@@ -56,7 +56,7 @@ private:
         std::optional<CityGpu> gpu;
         std::vector<StreetLamp> lamps;
         std::uint64_t lastUsed = 0;
-        std::size_t estimate = 0;  // bytes it will hold once loaded (2 × its file)
+        std::size_t estimate = 0;  // bytes it will hold once loaded (estimateBytes)
     };
     struct Result {
         int node;

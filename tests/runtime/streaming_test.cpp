@@ -107,6 +107,38 @@ TEST(Streaming, TheStreamedPictureIsCloseToFullDetail) {
     std::printf("streamed vs full detail: mean %.2f/255, %.1f %% of pixels by more than 24\n", mean, 100.0 * share);
 }
 
+// Where the HLOD hands over to the tiles (its error on screen just under 16 px), the swap
+// changes the picture by what the error allows and no more: the pop.
+TEST(Streaming, TheHandOverFromHlodToTilesPopsLittle) {
+    test::llvmpipeContext();
+    const glm::ivec2 size{320, 180};
+    const runtime::Tileset tiles = runtime::readTileset(smallWorld());
+    const runtime::TileNode& hlod = tiles.nodes[std::size_t(tiles.nodes.front().children.front())];
+    ASSERT_TRUE(hlod.hlod);
+    // South of the world, 30 m up, looking at its centre; back off until the HLOD is just coarse enough.
+    const auto camera = [&](double back) {
+        runtime::SelectionCamera c;
+        c.position = {128.0, 30.0, back};
+        c.screenHeight = double(size.y);
+        c.fovYRadians = glm::radians(50.0);
+        return c;
+    };
+    double back = 1.0;
+    while (runtime::screenSpaceError(hlod, camera(back)) > 15.9) back *= 1.01;
+    const glm::dvec3 eye = camera(back).position;
+    Renderer streamed(worldScene(smallWorld()), options(size));
+    Renderer full(worldScene(smallWorld()), options(size, 0.01));
+    runtime::FrameStats s, f;
+    const exporters::Image a = draw(streamed, eye, kAerialTarget, &s), b = draw(full, eye, kAerialTarget, &f);
+    ASSERT_EQ(s.streaming.drawn, 1);  // the HLOD
+    ASSERT_GT(f.streaming.drawn, 1);  // the tiles
+    const double mean = meanDifference(a, b), share = shareDifferingBy(a, b, 24);
+    // Measured: at 27 m, mean 4.4/255 and 10.5 % of pixels by more than 24 (16 px of error is 9 % of 180 px).
+    EXPECT_LT(mean, 8.0);
+    EXPECT_LT(share, 0.15);
+    std::printf("hand-over at %.0f m: mean %.2f/255, %.1f %% of pixels by more than 24\n", back, mean, 100.0 * share);
+}
+
 // The same street drawn 20 km from the origin (the tileset's root moved by 20,480 m east and
 // north, the camera with it): camera-relative rendering gives the same picture.
 TEST(Streaming, AStreetTwentyKilometresAwayDrawsTheSame) {

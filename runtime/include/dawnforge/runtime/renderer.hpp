@@ -99,7 +99,7 @@ struct StreamingOptions {
     std::size_t residentBudgetMB = 1536; // GPU bytes held at most (new loads wait above it)
     double lowWater = 0.85;              // eviction stops at this share of the budget (hysteresis)
     std::uint64_t keepFrames = 30;       // a node used within these frames is never evicted
-    std::size_t uploadBudgetMB = 48;     // uploaded per frame at most (`render`'s waiting frame: unlimited)
+    std::size_t uploadBudgetMB = 24;     // uploaded per frame at most (`render`'s waiting frame: unlimited)
     int workers = 2;                     // threads that read and parse tiles
     bool wait = false;                   // wait until the selection is resident (`render`: deterministic pictures)
 };
