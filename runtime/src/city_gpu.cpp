@@ -49,16 +49,6 @@ glm::uvec4 instanceBlocks(std::uint32_t id) {
     return blocks;
 }
 
-bool outsideFrustum(const glm::mat4& viewProj, glm::vec3 lo, glm::vec3 hi) {
-    const glm::mat4 m = glm::transpose(viewProj);
-    const glm::vec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
-    for (const glm::vec4& p : planes) {
-        const glm::vec3 far(p.x > 0 ? hi.x : lo.x, p.y > 0 ? hi.y : lo.y, p.z > 0 ? hi.z : lo.z);
-        if (glm::dot(glm::vec3(p), far) + p.w < 0.0f) return true;
-    }
-    return false;
-}
-
 void vertexLayout(GLuint vao) {
     glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, position));
     glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(StaticVertex, normal));
@@ -237,58 +227,69 @@ void IndirectDraws::draw(GLuint vao, const std::vector<Command>& commands) {
 // ---------------------------------------------------------------------------------------
 // The GPU half.
 
-std::size_t CityGpu::upload(std::size_t budget) {
-    if (done_) return 0;
-    std::size_t moved = 0;
+UploadStep CityGpu::upload(std::size_t budget) {
+    UploadStep step;
+    if (done_) return step;
+    // Allocating storage stalls a CPU driver about as a copy of its size does: it costs that
+    // much of the budget.
+    const auto room = [&] { return step.cost < budget; };
+    const auto allocate = [&](gl::Buffer& buffer, std::size_t bytes) {
+        buffer = gl::makeBuffer(nullptr, std::max<std::size_t>(bytes, 4), GL_DYNAMIC_STORAGE_BIT);
+        step.cost += bytes;
+    };
     if (!started_) {
         started_ = true;
         bytes_ = cpu_.bytes();
-        const auto storage = [](std::size_t n) { return gl::makeBuffer(nullptr, std::max<std::size_t>(n, 4), GL_DYNAMIC_STORAGE_BIT); };
-        vertices_ = storage(cpu_.vertices.size() * sizeof(StaticVertex));
-        indices_ = storage(cpu_.indices.size() * 4);
         instances_ = gl::makeBuffer(cpu_.instances);
-        moved += cpu_.instances.size() * sizeof(InstanceData);
-        if (cpu_.baked && cpu_.baked->lightmaps.layers > 0) {
-            const LightmapArray& l = cpu_.baked->lightmaps;
-            lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
-            glTextureStorage3D(lightmaps_.id(), 2, GL_RGBA8, l.size, l.size, l.layers);
-        }
+        step.copied += cpu_.instances.size() * sizeof(InstanceData);
+        step.cost += cpu_.instances.size() * sizeof(InstanceData);
+        allocate(vertices_, cpu_.vertices.size() * sizeof(StaticVertex));
+    }
+    if (!indices_ && room()) allocate(indices_, cpu_.indices.size() * 4);
+    const int layers = cpu_.baked ? cpu_.baked->lightmaps.layers : 0;
+    if (layers > 0 && !lightmaps_ && room()) {
+        const LightmapArray& l = cpu_.baked->lightmaps;
+        lightmaps_ = gl::makeTexture(GL_TEXTURE_2D_ARRAY);
+        glTextureStorage3D(lightmaps_.id(), 2, GL_RGBA8, l.size, l.size, l.layers);
+        step.cost += l.rgba.size() + cpu_.lightmapMip1.size();
     }
     // The trees in one piece, then vertices, indices and the lightmap's rows, a budget's worth
-    // at a time (at least something each call).
-    if (!treesDone_ && (moved < budget || moved == 0)) {
+    // at a time.
+    if (!treesDone_ && room()) {
         trees_.upload(cpu_.trees);
-        moved += cpu_.trees.bytes();
+        step.cost += cpu_.trees.bytes();
+        step.copied += cpu_.trees.bytes();
         treesDone_ = true;
     }
-    const auto copy = [&](GLuint buffer, const void* data, std::size_t total, std::size_t& done) {
-        if (done >= total || (moved >= budget && moved > 0)) return;
-        const std::size_t n = std::min(total - done, std::max<std::size_t>(budget - std::min(moved, budget), 1));
-        glNamedBufferSubData(buffer, GLintptr(done), GLsizeiptr(n), static_cast<const std::uint8_t*>(data) + done);
+    const auto copy = [&](const gl::Buffer& buffer, const void* data, std::size_t total, std::size_t& done) {
+        if (!buffer || done >= total || !room()) return;
+        const std::size_t n = std::min(total - done, budget - step.cost);
+        glNamedBufferSubData(buffer.id(), GLintptr(done), GLsizeiptr(n), static_cast<const std::uint8_t*>(data) + done);
         done += n;
-        moved += n;
+        step.cost += n;
+        step.copied += n;
     };
-    copy(vertices_.id(), cpu_.vertices.data(), cpu_.vertices.size() * sizeof(StaticVertex), vertexBytesDone_);
-    copy(indices_.id(), cpu_.indices.data(), cpu_.indices.size() * 4, indexBytesDone_);
+    copy(vertices_, cpu_.vertices.data(), cpu_.vertices.size() * sizeof(StaticVertex), vertexBytesDone_);
+    copy(indices_, cpu_.indices.data(), cpu_.indices.size() * 4, indexBytesDone_);
     // The lightmap array's rows, level 0 then level 1, layer by layer.
-    const int layers = cpu_.baked ? cpu_.baked->lightmaps.layers : 0;
-    while (layers > 0 && levelsDone_ < 2 && (moved < budget || moved == 0)) {
+    while (lightmaps_ && levelsDone_ < 2 && room()) {
         const LightmapArray& l = cpu_.baked->lightmaps;
         const int size = l.size >> levelsDone_;
         const std::uint8_t* data = levelsDone_ == 0 ? l.rgba.data() : cpu_.lightmapMip1.data();
         const std::size_t rowBytes = std::size_t(size) * 4u;
-        const int rows = int(std::clamp<std::size_t>((budget - std::min(moved, budget)) / rowBytes, 1, std::size_t(size - rowsDone_)));
+        const int rows = int(std::clamp<std::size_t>((budget - step.cost) / rowBytes, 1, std::size_t(size - rowsDone_)));
         glTextureSubImage3D(lightmaps_.id(), levelsDone_, 0, rowsDone_, layersDone_, size, rows, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                             data + rowBytes * (std::size_t(size) * std::size_t(layersDone_) + std::size_t(rowsDone_)));
-        moved += rowBytes * std::size_t(rows);
+        step.cost += rowBytes * std::size_t(rows);
+        step.copied += rowBytes * std::size_t(rows);
         rowsDone_ += rows;
         if (rowsDone_ == size) rowsDone_ = 0, ++layersDone_;
         if (layersDone_ == layers) layersDone_ = 0, ++levelsDone_;
     }
-    const bool buffersDone = vertexBytesDone_ == cpu_.vertices.size() * sizeof(StaticVertex) &&
+    const bool buffersDone = indices_ && vertexBytesDone_ == cpu_.vertices.size() * sizeof(StaticVertex) &&
                              indexBytesDone_ == cpu_.indices.size() * 4;
     if (treesDone_ && buffersDone && (layers == 0 || levelsDone_ == 2)) finishUpload();
-    return moved;
+    return step;
 }
 
 // Two mip levels of the lightmaps (bake/charts.hpp: kLightmapLevels), both uploaded.

@@ -5,6 +5,7 @@
 // `CityGpu::upload` (the GL thread) moves them to the GPU a budget of bytes at a time. Its
 // vertices are in its own frame; every draw adds `offset` (the frame's place relative to the
 // render origin), so coordinates stay small wherever the city is (camera-relative rendering).
+#include "frustum.hpp"
 #include "gl.hpp"
 #include "static_vertex.hpp"
 #include "trees.hpp"
@@ -34,9 +35,6 @@ struct InstanceData {
 // The default mapping of an instance: every material in its own block, brick and plaster in
 // one of their four half-size variants chosen from the instance id.
 glm::uvec4 instanceBlocks(std::uint32_t id);
-
-// Culling: is the box outside one of the six planes of `viewProj`?
-bool outsideFrustum(const glm::mat4& viewProj, glm::vec3 lo, glm::vec3 hi);
 
 struct DrawRange {
     std::uint32_t count = 0, firstIndex = 0;
@@ -110,13 +108,20 @@ struct CityDraw {
     double time = 0.0;
 };
 
+// What one call of CityGpu::upload did: bytes copied to the GPU, and its cost against the
+// budget (the copies and the storage it allocated).
+struct UploadStep {
+    std::size_t copied = 0, cost = 0;
+};
+
 class CityGpu {
 public:
     CityGpu() = default;
     explicit CityGpu(CityCpu cpu) : cpu_(std::move(cpu)) {}
-    // Moves at most `budget` bytes more to the GPU (at least one step); returns the bytes moved.
-    // `done()` once everything is there; the CPU copy is then released.
-    std::size_t upload(std::size_t budget);
+    // Allocates and copies to the GPU until the budget is spent (the first call at least
+    // allocates its vertex storage, so each call makes progress). `done()` once everything is
+    // there; the CPU copy is then released.
+    UploadStep upload(std::size_t budget);
     bool done() const { return done_; }
     std::size_t bytes() const { return bytes_; }
     bool baked() const { return baked_; }

@@ -117,7 +117,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize, const StreamingOp
 
 void SceneGpu::loadCity(const SceneFile& scene) {
     city_.emplace(loadCityCpu(*scene.cityDir, replacedUntil(scene)));
-    city_->upload(std::numeric_limits<std::size_t>::max());
+    city_->upload(std::numeric_limits<std::size_t>::max());  // all of it at once
     if (!city_->empty()) boundsMin_ = city_->boundsMin(), boundsMax_ = city_->boundsMax();
     baked_ = city_->baked();
     if (city_->overlook()) loadOverlook(*city_->overlook());

@@ -167,17 +167,20 @@ void TileStreamer::request(const std::vector<int>& wanted) {
     if (!queue_.empty()) wake_.notify_all();
 }
 
-// Loaded content to the GPU, most wanted first, until the frame's budget is spent.
+// Loaded content to the GPU, most wanted first, until the frame's budget is spent; returns the
+// bytes copied.
 std::size_t TileStreamer::uploadSome(const std::vector<int>& wanted, std::size_t budget) {
-    std::size_t moved = 0;
+    std::size_t cost = 0, copied = 0;
     for (int node : wanted) {
         Entry& e = entries_[std::size_t(node)];
         if (e.state != State::Loaded) continue;
-        if (moved >= budget) break;
-        moved += e.gpu->upload(budget - moved);
+        if (cost >= budget) break;
+        const UploadStep step = e.gpu->upload(budget - cost);
+        cost += step.cost;
+        copied += step.copied;
         if (e.gpu->done()) e.state = State::Resident;
     }
-    return moved;
+    return copied;
 }
 
 // Least recently used first, under the budget less what the wanted loads will need, so that

@@ -1,5 +1,7 @@
 #include <dawnforge/runtime/tiles.hpp>
 
+#include "frustum.hpp"
+
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/read_file.hpp>
@@ -127,16 +129,6 @@ struct Reader {
 };
 
 double distanceToBox(glm::dvec3 p, glm::dvec3 lo, glm::dvec3 hi) { return glm::length(p - glm::clamp(p, lo, hi)); }
-
-bool outsideFrustum(const glm::dmat4& viewProj, glm::dvec3 lo, glm::dvec3 hi) {
-    const glm::dmat4 m = glm::transpose(viewProj);
-    const glm::dvec4 planes[6] = {m[3] + m[0], m[3] - m[0], m[3] + m[1], m[3] - m[1], m[3] + m[2], m[3] - m[2]};
-    for (const glm::dvec4& p : planes) {
-        const glm::dvec3 far(p.x > 0 ? hi.x : lo.x, p.y > 0 ? hi.y : lo.y, p.z > 0 ? hi.z : lo.z);
-        if (glm::dot(glm::dvec3(p), far) + p.w < 0.0) return true;
-    }
-    return false;
-}
 
 struct Selector {
     const Tileset& tiles;
