@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 
 namespace dawnforge::runtime {
@@ -127,6 +128,32 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, std::vector<St
     s.slotPosition.assign(std::size_t(preset->cacheProbes()), glm::dvec3(0.0));
     s.slotCaptured.assign(std::size_t(preset->cacheProbes()), 0);
     s.allocate();
+}
+
+void ProbeGpu::setScene(std::vector<ProbeBox> boxes, std::vector<StreetLamp> lamps) {
+    State& s = *s_;
+    if (!s.preset) return;
+    const int moving = s.boxCapacity - s.staticBoxes;
+    s.staticBoxes = s.boxCount = int(boxes.size());
+    if (s.staticBoxes + moving > s.boxCapacity || !s.boxes) {
+        s.boxCapacity = s.staticBoxes + moving;
+        s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
+        s.visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(s.boxCapacity, 1)) * sizeof(std::uint32_t));
+    }
+    if (!boxes.empty())
+        glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
+    s.proxies = boxes;
+    s.lamps = std::move(lamps);
+    s.lampBuffer = gl::makeBuffer(nullptr, std::max<std::size_t>(s.lamps.size(), 1) * 2 * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
+    s.field = std::make_unique<ProbeField>(std::move(boxes));
+    s.cache = std::make_unique<ProbeCache>(s.preset->cacheProbes());
+    s.slotPosition.assign(std::size_t(s.preset->cacheProbes()), glm::dvec3(0.0));
+    s.slotCaptured.assign(std::size_t(s.preset->cacheProbes()), 0);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(s.cacheTexture.id(), 0, GL_RGBA, GL_FLOAT, zero);
+    glClearTexImage(s.moments.id(), 0, GL_RG, GL_FLOAT, zero);
+    const std::vector<int> gone = std::exchange(s.gone, {});  // hidden again among the new boxes
+    setGoneBuildings(gone);
 }
 
 void ProbeGpu::State::allocate() {

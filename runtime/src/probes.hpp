@@ -40,6 +40,9 @@ public:
     void load(std::vector<ProbeBox> boxes, int movingBoxes, std::vector<StreetLamp> lamps, const ProbePreset* preset,
               const ProbeSettings& settings);
     bool enabled() const;
+    // Replaces the proxies and the lamps (a world's: those of the tiles drawn now, in render
+    // space) and empties the cache: what it held was captured from the others.
+    void setScene(std::vector<ProbeBox> boxes, std::vector<StreetLamp> lamps);
     // Binds the cache, the index and the Probes block for the shaders (units 11, 12; UBO 3).
     void bind() const;
     // Places, captures (at most `budget` probes; 0: all the area wants) and injects around

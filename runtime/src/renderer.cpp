@@ -157,9 +157,11 @@ void Renderer::State::addPasses() {
         if (!s.probes.enabled()) return;
         // The lighting area sits ahead of the player, where what they see is.
         const auto t0 = Clock::now();
+        if (std::optional<std::vector<ProbeBox>> boxes = s.scene.worldProbeBoxes()) s.probes.setScene(std::move(*boxes), s.frameLamps);
         s.probes.setGoneBuildings(s.scene.goneBuildings(s.frame.time));
         const std::vector<ProbeBox> pieces = s.scene.pieceBoxes(s.frame.time);
-        s.stats.probes = s.probes.update(s.cameraPos + 7.5 * s.cameraForward, s.options.probeBudget, pieces);
+        const glm::dvec3 focus = s.cameraPos - s.scene.renderOrigin() + 7.5 * s.cameraForward;  // in render space
+        s.stats.probes = s.probes.update(focus, s.options.probeBudget, pieces);
         if (s.stats.probes.captured > 0) {
             glFinish();
             s.stats.probes.captureMs = msSince(t0);
@@ -224,9 +226,11 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
         s.probes.load({}, 0, {}, nullptr, settings);
         return;
     }
-    if (scene.worldDir)
-        throw InputError(format("probes \"{}\": a world scene streams its tiles and has no probes yet; use probes \"off\"",
-                                settings.preset));
+    if (scene.worldDir) {  // the proxies come with the tiles (SceneGpu::worldProbeBoxes)
+        s.probes.load({}, int(s.scene.pieceCount()), {}, &*preset, settings);
+        s.probesOn = settings.preset;
+        return;
+    }
     const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
     std::error_code ec;
     if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))

@@ -91,7 +91,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize, const StreamingOp
     if (scene.cityDir) loadCity(scene);
     if (scene.worldDir) {
         world_ = std::make_unique<TileStreamer>();
-        world_->open(*scene.worldDir, streaming, replacedUntil(scene));
+        world_->open(*scene.worldDir, streaming, replacedUntil(scene), scene.probes.preset != "off");
         boundsMin_ = world_->tiles().boundsMin, boundsMax_ = world_->tiles().boundsMax;
     }
     for (const DestructionInstance& d : scene.destruction) loadVat(d);
@@ -207,7 +207,27 @@ std::vector<ProbeBox> SceneGpu::pieceBoxes(double time) const {
     std::vector<ProbeBox> out;
     for (const Vat& v : vats_)
         if (!v.replacing || time >= v.startTime) v.boxes.append(time, out);  // as drawVats draws them
+    for (ProbeBox& b : out) b.centre -= origin_;
     return out;
+}
+
+std::optional<std::vector<ProbeBox>> SceneGpu::worldProbeBoxes() {
+    if (!world_) return std::nullopt;
+    std::vector<int> nodes;
+    for (const TileStreamer::Drawn& d : drawn_)
+        if (!d.hlod) nodes.push_back(d.node);
+    std::sort(nodes.begin(), nodes.end());
+    if (nodes == probeNodes_ && origin_ == probeOrigin_) return std::nullopt;
+    probeNodes_ = std::move(nodes);
+    probeOrigin_ = origin_;
+    std::vector<ProbeBox> boxes;
+    for (const TileStreamer::Drawn& d : drawn_)
+        if (!d.hlod && d.proxies)
+            for (ProbeBox b : *d.proxies) {
+                b.centre += d.offset - origin_;
+                boxes.push_back(std::move(b));
+            }
+    return boxes;
 }
 
 std::vector<int> SceneGpu::goneBuildings(double time) const {

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace dawnforge::runtime {
@@ -51,7 +52,10 @@ public:
     // The street lamps of the city, or of the world's tiles drawn this frame, in render space.
     std::vector<StreetLamp> lamps(const std::vector<StreetLamp>& cityLamps);
 
-    // The destruction pieces drawn at scene time `time`, as boxes for the probes' capture.
+    // A world's probe proxies: those of the full-detail tiles drawn now, in render space, when
+    // they differ from the last call's (other tiles, or the render origin moved); else nothing.
+    std::optional<std::vector<ProbeBox>> worldProbeBoxes();
+    // The destruction pieces drawn at scene time `time`, as boxes for the probes' capture (render space).
     std::vector<ProbeBox> pieceBoxes(double time) const;
     std::size_t pieceCount() const;
     // The buildings replaced by their destruction at scene time `time`.
@@ -95,6 +99,8 @@ private:
     std::optional<CityGpu> city_;
     std::unique_ptr<TileStreamer> world_;
     std::vector<TileStreamer::Drawn> drawn_;  // this frame's streamed content
+    std::vector<int> probeNodes_;               // the tiles whose proxies the probes hold
+    glm::dvec3 probeOrigin_{0.0};
     glm::dvec3 origin_{0.0};
     gl::Program vat_, vatDepth_, ocean_;
     gl::Texture atlas_, rooms_, roomMiddle_;

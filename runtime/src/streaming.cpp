@@ -65,8 +65,9 @@ TileStreamer::~TileStreamer() {
 }
 
 void TileStreamer::open(const std::filesystem::path& worldDir, const StreamingOptions& options,
-                        std::map<std::uint32_t, double> until) {
+                        std::map<std::uint32_t, double> until, bool proxies) {
     tiles_ = readTileset(worldDir);
+    proxies_ = proxies;
     options_ = options;
     until_ = std::move(until);
     entries_.resize(tiles_.nodes.size());
@@ -108,6 +109,9 @@ TileStreamer::Result TileStreamer::loadNode(int node) const {
             if (n.file.filename() != "city.glb") throw InputError(format("{}: a tile's content must be a city folder's city.glb", n.file.string()));
             r.city = loadCityCpu(dir, until_);
             r.lamps = readStreetLamps(dir);
+            std::error_code ec;
+            if (proxies_ && std::filesystem::is_regular_file(dir / "bake" / "proxies.json", ec))
+                r.proxies = parseProbeBoxes(readTextFile(dir / "bake" / "proxies.json"), (dir / "bake" / "proxies.json").string());
         }
     } catch (const std::exception& e) {
         r.error = oneLine(e.what());
@@ -134,6 +138,7 @@ void TileStreamer::collect(StreamingStats& stats) {
         }
         e.gpu.emplace(std::move(*r.city));
         e.lamps = std::move(r.lamps);
+        e.proxies = std::move(r.proxies);
         e.state = State::Loaded;
         ++stats.loads;
     }
@@ -197,6 +202,7 @@ void TileStreamer::evict(const std::vector<int>& wanted, StreamingStats& stats) 
         Entry& e = entries_[std::size_t(node)];
         e.gpu.reset();
         e.lamps.clear();
+        e.proxies.clear();
         e.state = State::Absent;
         ++stats.evictions;
     }
@@ -271,7 +277,7 @@ std::vector<TileStreamer::Drawn> TileStreamer::drawn() {
     for (int i : drawn_) {
         Entry& e = entries_[std::size_t(i)];
         if (e.state != State::Resident) continue;  // evicted since (never: what is drawn was used this frame)
-        out.push_back({&*e.gpu, tiles_.nodes[std::size_t(i)].offset, tiles_.nodes[std::size_t(i)].hlod, &e.lamps});
+        out.push_back({&*e.gpu, tiles_.nodes[std::size_t(i)].offset, tiles_.nodes[std::size_t(i)].hlod, &e.lamps, &e.proxies, i});
     }
     return out;
 }

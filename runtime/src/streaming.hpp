@@ -7,6 +7,7 @@
 #include "city_gpu.hpp"
 #include "flares.hpp"
 
+#include <dawnforge/runtime/probe_placement.hpp>
 #include <dawnforge/runtime/renderer.hpp>
 #include <dawnforge/runtime/tiles.hpp>
 
@@ -34,7 +35,9 @@ public:
 
     // Reads the manifest (InputError when it is missing or broken) and starts the workers.
     // `until`: building id → the scene time a destruction replaces it.
-    void open(const std::filesystem::path& worldDir, const StreamingOptions& options, std::map<std::uint32_t, double> until);
+    // `proxies`: also read each tile's bake/proxies.json (the probes').
+    void open(const std::filesystem::path& worldDir, const StreamingOptions& options, std::map<std::uint32_t, double> until,
+              bool proxies);
     const Tileset& tiles() const { return tiles_; }
 
     // One frame's streaming for `camera` (and, ahead of it, `prefetch` when given).
@@ -45,6 +48,8 @@ public:
         glm::dvec3 offset;  // its frame, runtime coordinates
         bool hlod;
         const std::vector<StreetLamp>* lamps;  // in its frame
+        const std::vector<ProbeBox>* proxies;  // in its frame (empty unless asked for)
+        int node;
     };
     // What the last update selected, in drawing order.
     std::vector<Drawn> drawn();
@@ -55,6 +60,7 @@ private:
         State state = State::Absent;
         std::optional<CityGpu> gpu;
         std::vector<StreetLamp> lamps;
+        std::vector<ProbeBox> proxies;
         std::uint64_t lastUsed = 0;
         std::size_t estimate = 0;  // bytes it will hold once loaded (estimateBytes)
     };
@@ -62,6 +68,7 @@ private:
         int node;
         std::optional<CityCpu> city;
         std::vector<StreetLamp> lamps;
+        std::vector<ProbeBox> proxies;
         std::string error;
     };
 
@@ -78,6 +85,7 @@ private:
     Tileset tiles_;
     StreamingOptions options_;
     std::map<std::uint32_t, double> until_;
+    bool proxies_ = false;
     std::vector<Entry> entries_;
     std::vector<int> drawn_;
     std::uint64_t frame_ = 0;

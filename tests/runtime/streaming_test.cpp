@@ -310,11 +310,31 @@ TEST(Streaming, TheWorldsBuildingsComeFromItsPlan) {
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { runtime::worldBuildings(dir.path()); }), "not a world plan"));
 }
 
-TEST(Streaming, ProbesAreRefusedInAWorld) {
+// Probes in a world: captured from the proxies of the tiles drawn now, in render space. The
+// world is baked, so they light what the bake does not: the trees.
+TEST(Streaming, ProbesLightAWorldFromItsTilesProxies) {
     test::llvmpipeContext();
     SceneFile scene = worldScene(smallWorld());
     scene.probes.preset = "mid";
-    EXPECT_TRUE(test::contains(test::inputErrorOf([&] { Renderer r(scene, options({64, 64})); }), "world"));
+    scene.probes.show = true;
+    Renderer withProbes(scene, options({160, 120}));
+    Renderer without(worldScene(smallWorld()), options({160, 120}));
+    runtime::FrameStats s;
+    const exporters::Image a = draw(withProbes, kStreetEye, kStreetTarget, &s), b = draw(without, kStreetEye, kStreetTarget);
+    EXPECT_EQ(s.probePreset, "mid");
+    EXPECT_GT(s.probes.captured, 20);
+    EXPECT_EQ(s.probes.injected, s.probes.wanted);
+    EXPECT_GT(shareDifferingBy(a, b, 8), 0.01);  // the spheres of the debug view, and the trees
+    // Every probe stands outside the boxes it was captured from, within the tiles' square.
+    for (const runtime::CapturedProbe& p : withProbes.capturedProbes()) {
+        EXPECT_GE(p.position.x, -1.0);
+        EXPECT_LE(p.position.x, 257.0);
+        EXPECT_LE(p.position.z, 1.0);
+        EXPECT_GE(p.position.z, -257.0);
+    }
+    // Elsewhere in the world, other tiles: the probes start again from their proxies.
+    draw(withProbes, {200, 1.7, -230}, {230, 1.7, -250}, &s);
+    EXPECT_GT(s.probes.captured, 0);
 }
 
 }  // namespace

@@ -57,7 +57,7 @@ struct ProbeStats {
 
 // A probe as captured, read back for tests and debug views.
 struct CapturedProbe {
-    glm::dvec3 position{0.0};
+    glm::dvec3 position{0.0};  // render space: a world's runtime coordinates less the render origin (a city's: the same)
     ShRgb radiance;        // SH L2 of the radiance it saw
     bool indoors = false;  // its IN tag (a roof above it in the overlook depth)
 };
