@@ -241,20 +241,12 @@ void TileStreamer::update(const SelectionCamera& camera, const SelectionCamera* 
         stats.uploadBytes += uploadSome(wanted, std::max<std::size_t>(budget, 1));
         uploadMs += msSince(u0);
         sel = select(camera);  // what was uploaded just now draws this frame
-        drawn_ = sel.draw;
-        // Nearest first (the depth test then rejects what they hide before it is shaded).
-        std::stable_sort(drawn_.begin(), drawn_.end(), [&](int a, int b) {
-            const TileNode &na = tiles_.nodes[std::size_t(a)], &nb = tiles_.nodes[std::size_t(b)];
-            const auto distance = [&](const TileNode& n) { return glm::length(camera.position - glm::clamp(camera.position, n.areaMin, n.areaMax)); };
-            return distance(na) < distance(nb);
-        });
+        drawn_ = nearestFirst(sel.draw, camera.position);
         stats.wanted = int(sel.wanted.size());
         stats.complete = sel.complete;
-        bool busy = false;
         {
             std::unique_lock lock(mutex_);
-            busy = pending();
-            if (!options_.wait || sel.complete || !busy) break;
+            if (!options_.wait || sel.complete || !pending()) break;
             done_.wait_for(lock, std::chrono::milliseconds(50), [this] { return !results_.empty(); });
         }
         stats.waited = true;
@@ -270,6 +262,16 @@ void TileStreamer::update(const SelectionCamera& camera, const SelectionCamera* 
         stats.loading += e.state == State::Queued || e.state == State::Loaded;
     }
     stats.residentMB = double(residentBytes()) / double(kMB);
+}
+
+// Nearest first: the depth test then rejects what they hide before it is shaded.
+std::vector<int> TileStreamer::nearestFirst(std::vector<int> nodes, glm::dvec3 camera) const {
+    const auto distance = [&](int i) {
+        const TileNode& n = tiles_.nodes[std::size_t(i)];
+        return glm::length(camera - glm::clamp(camera, n.areaMin, n.areaMax));
+    };
+    std::stable_sort(nodes.begin(), nodes.end(), [&](int a, int b) { return distance(a) < distance(b); });
+    return nodes;
 }
 
 std::vector<TileStreamer::Drawn> TileStreamer::drawn() {

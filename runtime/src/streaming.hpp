@@ -79,6 +79,7 @@ private:
     std::size_t uploadSome(const std::vector<int>& wanted, std::size_t budget);
     void evict(const std::vector<int>& wanted, StreamingStats& stats);
     TileSelection select(const SelectionCamera& camera) const;
+    std::vector<int> nearestFirst(std::vector<int> nodes, glm::dvec3 camera) const;
     std::size_t residentBytes() const;
     bool pending() const;
 

@@ -88,6 +88,13 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
     const runtime::RendererOptions ro;
     const bake::BakeSettings b;
     const std::string imageSize = shown(ro.size.x) + "x" + shown(ro.size.y);
+    // render and view share the streaming options.
+    const auto streaming = [&](std::map<std::string, std::string> m) {
+        const runtime::StreamingOptions& so = ro.streaming;
+        m.insert({{"--max-screen-error", shown(so.maxScreenError)}, {"--resident-mb", shown(double(so.residentBudgetMB))},
+                  {"--upload-mb", shown(double(so.uploadBudgetMB))}, {"--stream-threads", shown(so.workers)}});
+        return m;
+    };
     // Options the command line alone has (no library setting) are listed with their own value.
     const std::map<std::string, std::map<std::string, std::string>> expected{
         {"fracture",
@@ -113,8 +120,8 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
         {"city",
          {{"--seed", shown(double(c.seed))}, {"--size", shown(c.size.x) + "x" + shown(c.size.y)},
           {"--tile-size", shown(c.tileSize)}, {"--threads", "0"}}},
-        {"render", {{"--size", imageSize}, {"--repeat", "5"}}},
-        {"view", {{"--size", imageSize}, {"--frames", "0"}}},
+        {"render", streaming({{"--size", imageSize}, {"--repeat", "5"}})},
+        {"view", streaming({{"--size", imageSize}, {"--frames", "0"}})},
         {"demo",
          {{"--threads", "0"}, {"--bake-texel", shown(b.texel)}, {"--bake-interior-texel", shown(b.interiorTexel)},
           {"--bake-samples", shown(b.samples)}, {"--bake-bounces", shown(b.bounces)}}},
