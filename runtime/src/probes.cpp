@@ -69,7 +69,7 @@ struct ProbeGpu::State {
     std::unique_ptr<ProbeCache> cache;
     std::vector<glm::dvec3> slotPosition;  // per cache slot
     std::vector<char> slotCaptured;
-    int staticBoxes = 0, boxCount = 0, boxCapacity = 0, tilesPerRow = 1;
+    int staticBoxes = 0, movingBoxes = 0, boxCount = 0, boxCapacity = 0, tilesPerRow = 1;
     std::vector<ProbeBox> proxies;  // as loaded
     std::vector<StreetLamp> lamps;
     gl::Buffer lampBuffer;
@@ -115,28 +115,19 @@ void ProbeGpu::load(std::vector<ProbeBox> boxes, int movingBoxes, std::vector<St
         glNamedBufferSubData(s.ubo.id(), 0, sizeof(ProbesBlock), &s.block);
         return;
     }
-    s.staticBoxes = s.boxCount = int(boxes.size());
-    s.boxCapacity = s.staticBoxes + std::max(movingBoxes, 0);
-    s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
-    glNamedBufferSubData(s.boxes.id(), 0, GLsizeiptr(boxes.size() * sizeof(GpuBox)), gpuBoxes(boxes).data());
-    s.proxies = boxes;
-    s.lamps = std::move(lamps);
-    s.lampBuffer = gl::makeBuffer(nullptr, std::max<std::size_t>(s.lamps.size(), 1) * 2 * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
-    s.field = std::make_unique<ProbeField>(std::move(boxes));
-    s.cache = std::make_unique<ProbeCache>(preset->cacheProbes());
+    s.movingBoxes = std::max(movingBoxes, 0);
+    s.boxCapacity = int(boxes.size()) + s.movingBoxes;
     s.tilesPerRow = preset->cacheTexels / kTile;
-    s.slotPosition.assign(std::size_t(preset->cacheProbes()), glm::dvec3(0.0));
-    s.slotCaptured.assign(std::size_t(preset->cacheProbes()), 0);
     s.allocate();
+    setScene(std::move(boxes), std::move(lamps));
 }
 
 void ProbeGpu::setScene(std::vector<ProbeBox> boxes, std::vector<StreetLamp> lamps) {
     State& s = *s_;
     if (!s.preset) return;
-    const int moving = s.boxCapacity - s.staticBoxes;
     s.staticBoxes = s.boxCount = int(boxes.size());
-    if (s.staticBoxes + moving > s.boxCapacity || !s.boxes) {
-        s.boxCapacity = s.staticBoxes + moving;
+    if (s.staticBoxes + s.movingBoxes > s.boxCapacity || !s.boxes) {  // the box buffer and each face's list of them
+        s.boxCapacity = std::max(s.boxCapacity, s.staticBoxes + s.movingBoxes);
         s.boxes = gl::makeBuffer(nullptr, std::size_t(std::max(s.boxCapacity, 1)) * sizeof(GpuBox), GL_DYNAMIC_STORAGE_BIT);
         s.visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(s.boxCapacity, 1)) * sizeof(std::uint32_t));
     }
@@ -159,12 +150,8 @@ void ProbeGpu::setScene(std::vector<ProbeBox> boxes, std::vector<StreetLamp> lam
 void ProbeGpu::State::allocate() {
     const int texels = preset->cacheTexels, size = settings.faceSize;
     cacheTexture = gl::makeTexture2D(GL_RGBA16F, texels, texels, 1, GL_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(cacheTexture.id(), 0, GL_RGBA, GL_FLOAT, zero);
-    moments = gl::makeTexture2D(GL_RG32F, 6 * tilesPerRow, tilesPerRow, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
-    glClearTexImage(moments.id(), 0, GL_RG, GL_FLOAT, zero);
+    moments = gl::makeTexture2D(GL_RG32F, 6 * tilesPerRow, tilesPerRow, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);  // cleared by setScene
     coefficients = gl::makeBuffer(nullptr, std::size_t(preset->cacheProbes()) * 9 * sizeof(glm::vec4));
-    visible = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * std::size_t(std::max(boxCapacity, 1)) * sizeof(std::uint32_t));
     commands = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * 6 * 4 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
     batch = gl::makeBuffer(nullptr, std::size_t(kProbeBatch) * sizeof(glm::vec4), GL_DYNAMIC_STORAGE_BIT);
     gAlbedo = gl::makeTexture2D(GL_RGBA8, 6 * size, kProbeBatch * size, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
 
 namespace dawnforge::runtime {
 
@@ -226,17 +227,17 @@ void Renderer::State::loadProbes(const SceneFile& scene) {
         s.probes.load({}, 0, {}, nullptr, settings);
         return;
     }
-    if (scene.worldDir) {  // the proxies come with the tiles (SceneGpu::worldProbeBoxes)
-        s.probes.load({}, int(s.scene.pieceCount()), {}, &*preset, settings);
-        s.probesOn = settings.preset;
-        return;
+    // A world's proxies come with its tiles (SceneGpu::worldProbeBoxes); a city's are its bake's.
+    std::vector<ProbeBox> boxes;
+    if (!scene.worldDir) {
+        const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
+        std::error_code ec;
+        if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
+            throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
+                                    settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
+        boxes = parseProbeBoxes(readTextFile(proxies), proxies.string());
     }
-    const std::filesystem::path proxies = scene.cityDir ? *scene.cityDir / "bake" / "proxies.json" : std::filesystem::path();
-    std::error_code ec;
-    if (!scene.cityDir || !std::filesystem::is_regular_file(proxies, ec))
-        throw InputError(format("probes \"{}\" need the city's bake ({}): run `dawnforge bake` on the city, or use probes \"off\"",
-                                settings.preset, scene.cityDir ? proxies.string() : std::string("the scene has no city")));
-    s.probes.load(parseProbeBoxes(readTextFile(proxies), proxies.string()), int(s.scene.pieceCount()), s.lamps, &*preset, settings);
+    s.probes.load(std::move(boxes), int(s.scene.pieceCount()), s.lamps, &*preset, settings);
     s.probesOn = settings.preset;
 }
 
@@ -308,11 +309,11 @@ SelectionCamera selectionCamera(const ViewCamera& cam, const glm::dmat4& proj, i
 }
 
 // Where a moving camera will be in a second: the streaming asks for that view's tiles too.
-std::unique_ptr<SelectionCamera> prefetchCamera(const ViewCamera& cam, glm::dvec3 velocity, const glm::dmat4& proj, int height) {
-    if (glm::length(velocity) < 0.1) return nullptr;
+std::optional<SelectionCamera> prefetchCamera(const ViewCamera& cam, glm::dvec3 velocity, const glm::dmat4& proj, int height) {
+    if (glm::length(velocity) < 0.1) return std::nullopt;
     ViewCamera ahead = cam;
     ahead.position += velocity;
-    return std::make_unique<SelectionCamera>(selectionCamera(ahead, proj, height));
+    return selectionCamera(ahead, proj, height);
 }
 
 }  // namespace
@@ -331,8 +332,9 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     s.stats.probePreset = s.probesOn;
     const double aspect = double(size.x) / double(size.y);
     const glm::dmat4 proj = glm::perspective(glm::radians(cam.fovYDegrees), aspect, kNear, kFar);
-    const glm::dvec3 origin = s.scene.beginFrame(cam.position, selectionCamera(cam, proj, size.y),
-                                                 prefetchCamera(cam, frame.cameraVelocity, proj, size.y).get(), s.stats.streaming);
+    const std::optional<SelectionCamera> ahead = prefetchCamera(cam, frame.cameraVelocity, proj, size.y);
+    const glm::dvec3 origin = s.scene.beginFrame(cam.position, selectionCamera(cam, proj, size.y), ahead ? &*ahead : nullptr,
+                                                 s.stats.streaming);
     // Camera-relative: the view and everything the GPU sees are in render space (less `origin`).
     const glm::dvec3 eye = cam.position - origin;
     const glm::dmat4 view = glm::lookAt(eye, eye + cam.forward, glm::dvec3(0, 1, 0));

@@ -261,22 +261,20 @@ SceneFile loadSceneFile(const std::filesystem::path& file) {
     SceneFile scene = parseSceneJson(readTextFile(file), file);
 
     const std::string source = file.string();
-    if (scene.cityDir) {
-        if (!std::filesystem::is_directory(*scene.cityDir, ec))
-            throw InputError(format("{}: \"city\": the folder {} does not exist (expected a folder written by `dawnforge city`)",
-                                    source, scene.cityDir->string()));
-        if (!std::filesystem::is_regular_file(*scene.cityDir / "city.glb", ec))
-            throw InputError(format("{}: \"city\": {} is missing (the city folder must hold city.glb from `dawnforge city`)",
-                                    source, (*scene.cityDir / "city.glb").string()));
-    }
-    if (scene.worldDir) {
-        if (!std::filesystem::is_directory(*scene.worldDir, ec))
-            throw InputError(format("{}: \"world\": the folder {} does not exist (expected a folder written by `dawnforge world build`)",
-                                    source, scene.worldDir->string()));
-        if (!std::filesystem::is_regular_file(*scene.worldDir / "tileset.json", ec))
-            throw InputError(format("{}: \"world\": {} is missing (run `dawnforge world build` on the world until it finishes)",
-                                    source, (*scene.worldDir / "tileset.json").string()));
-    }
+    // A folder the scene names, and the file that makes it what the key says.
+    const auto folder = [&](const char* key, const std::filesystem::path& dir, const char* writer, const char* file,
+                            const char* missing) {
+        if (!std::filesystem::is_directory(dir, ec))
+            throw InputError(format("{}: \"{}\": the folder {} does not exist (expected a folder written by `{}`)", source, key,
+                                    dir.string(), writer));
+        if (!std::filesystem::is_regular_file(dir / file, ec))
+            throw InputError(format("{}: \"{}\": {} is missing ({})", source, key, (dir / file).string(), missing));
+    };
+    if (scene.cityDir)
+        folder("city", *scene.cityDir, "dawnforge city", "city.glb", "the city folder must hold city.glb from `dawnforge city`");
+    if (scene.worldDir)
+        folder("world", *scene.worldDir, "dawnforge world build", "tileset.json",
+               "run `dawnforge world build` on the world until it finishes");
     for (std::size_t i = 0; i < scene.destruction.size(); ++i) {
         const DestructionInstance& d = scene.destruction[i];
         if (!std::filesystem::is_directory(d.vatDir, ec))

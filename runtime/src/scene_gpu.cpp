@@ -4,9 +4,6 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
-#include <dawnforge/core/import.hpp>
-#include <dawnforge/core/read_file.hpp>
-#include <dawnforge/core/seed.hpp>
 #include <dawnforge/exporters/vat_read.hpp>
 #include <dawnforge/runtime/atlas.hpp>
 #include <dawnforge/runtime/interior.hpp>

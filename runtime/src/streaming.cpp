@@ -109,9 +109,9 @@ TileStreamer::Result TileStreamer::loadNode(int node) const {
             if (n.file.filename() != "city.glb") throw InputError(format("{}: a tile's content must be a city folder's city.glb", n.file.string()));
             r.city = loadCityCpu(dir, until_);
             r.lamps = readStreetLamps(dir);
+            const std::filesystem::path proxies = dir / "bake" / "proxies.json";
             std::error_code ec;
-            if (proxies_ && std::filesystem::is_regular_file(dir / "bake" / "proxies.json", ec))
-                r.proxies = parseProbeBoxes(readTextFile(dir / "bake" / "proxies.json"), (dir / "bake" / "proxies.json").string());
+            if (proxies_ && std::filesystem::is_regular_file(proxies, ec)) r.proxies = parseProbeBoxes(readTextFile(proxies), proxies.string());
         }
     } catch (const std::exception& e) {
         r.error = oneLine(e.what());
@@ -147,7 +147,7 @@ void TileStreamer::collect(StreamingStats& stats) {
 std::size_t TileStreamer::residentBytes() const {
     std::size_t n = 0;
     for (const Entry& e : entries_)
-        if (e.gpu) n += e.gpu->bytes() ? e.gpu->bytes() : 0;
+        if (e.gpu) n += e.gpu->bytes();
     return n;
 }
 
