@@ -102,11 +102,12 @@ TileStreamer::Result TileStreamer::loadNode(int node) const {
     const TileNode& n = tiles_.nodes[std::size_t(node)];
     Result r{node, std::nullopt, {}, {}};
     try {
-        if (n.hlod) {
-            r.city = buildCityCpu(loadMeshNodes(n.file), std::nullopt, true, until_);
+        // A tile's city folder (its city.glb with its bake, lamps and proxies), or any other GLB
+        // as it is (an HLOD node's carries its bake in its vertices).
+        if (n.hlod || n.file.filename() != "city.glb") {
+            r.city = buildCityCpu(loadMeshNodes(n.file), std::nullopt, n.hlod, until_);
         } else {
             const std::filesystem::path dir = n.file.parent_path();
-            if (n.file.filename() != "city.glb") throw InputError(format("{}: a tile's content must be a city folder's city.glb", n.file.string()));
             r.city = loadCityCpu(dir, until_);
             r.lamps = readStreetLamps(dir);
             const std::filesystem::path proxies = dir / "bake" / "proxies.json";
@@ -131,9 +132,11 @@ void TileStreamer::collect(StreamingStats& stats) {
         if (!r.city) {
             e.state = State::Failed;
             ++stats.failed;
-            std::fprintf(stderr, "dawnforge: warning: %s (%s): %s; its parent is drawn in its place\n",
-                         tiles_.nodes[std::size_t(r.node)].file.string().c_str(), tiles_.nodes[std::size_t(r.node)].name.c_str(),
-                         r.error.c_str());
+            const TileNode& n = tiles_.nodes[std::size_t(r.node)];
+            bool standIn = false;  // an ancestor with content of its own
+            for (int p = n.parent; p >= 0 && !standIn; p = tiles_.nodes[std::size_t(p)].parent) standIn = !tiles_.nodes[std::size_t(p)].file.empty();
+            std::fprintf(stderr, "dawnforge: warning: %s (%s): %s; %s\n", n.file.string().c_str(), n.name.c_str(), r.error.c_str(),
+                         standIn ? "its parent is drawn in its place" : "nothing is drawn in its place");
             continue;
         }
         e.gpu.emplace(std::move(*r.city));

@@ -299,6 +299,31 @@ TEST(Streaming, AMissingTileIsDrawnAsItsParent) {
     EXPECT_EQ(s.lod0Buildings + s.lod1Buildings, 0u);
 }
 
+// A tileset whose content is a plain GLB, not a tile's city folder (as other tools write them):
+// drawn as it is.
+TEST(Streaming, AnyGlbContentIsDrawnAsItIs) {
+    test::llvmpipeContext();
+    test::TempDir dir;
+    const fs::path w = dir / "w";
+    fs::create_directories(w);
+    fs::copy_file(smallWorld() / "hlod" / "1_0_0.glb", w / "mesh.glb");
+    nlohmann::json t = nlohmann::json::parse(test::readText(smallWorld() / "tileset.json"));
+    nlohmann::json node = t["root"]["children"][0];
+    node.erase("children");
+    node.erase("extras");  // not marked as an HLOD node: its vertices' bake goes unread
+    node["content"]["uri"] = "mesh.glb";
+    t["root"]["children"] = nlohmann::json::array({node});
+    test::writeText(w / "tileset.json", t.dump());
+    Renderer r(worldScene(w), options({160, 120}));
+    runtime::FrameStats s;
+    testing::internal::CaptureStderr();
+    draw(r, kAerialEye, kAerialTarget, &s);
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    EXPECT_EQ(s.streaming.drawn, 1);
+    EXPECT_EQ(s.streaming.failed, 0);
+    EXPECT_GT(s.triangles, 10000u);
+}
+
 // What a destruction may replace in a world: the buildings its plan gives its tiles.
 TEST(Streaming, TheWorldsBuildingsComeFromItsPlan) {
     const std::optional<std::set<std::uint32_t>> ids = runtime::worldBuildings(smallWorld());
