@@ -221,7 +221,7 @@ TEST(CliWorld, SlurmBuildsTheSameBytesAsTheLocalBackend) {
     if (!fs::exists("/usr/sbin/slurmctld") || !fs::exists("/usr/sbin/munged"))
         GTEST_SKIP() << "slurm-wlm and munge are not installed (./run installs them)";
     TempDir dir;
-    const fs::path local = dir / "local", farm = dir / "it's a $(farm) world";
+    const fs::path local = dir / "a \"local\" `world` $HOME", farm = dir / "it's a $(farm) world";
     for (const fs::path& w : {local, farm}) ASSERT_EQ(plan(w, smallWorld()).exitCode, 0);
     ASSERT_EQ(build(local, {"--stages", "city,bake,hlod"}).exitCode, 0);
     const RunResult up = test::run(script.string(), {"up"});
