@@ -54,7 +54,7 @@ struct DistrictScene {
 const DistrictScene& districtScene() {
     static const DistrictScene s = [] {
         DistrictScene d;
-        for (MeshNode& node : loadMeshNodes(district() / "city.glb")) {
+        for (MeshNode& node : loadMeshNodes(district() / "city.glb", ReadIn::thisProcess)) {
             if (node.name.ends_with("_lod1")) continue;
             Mesh m = std::move(node.mesh);
             for (glm::vec3& p : m.positions) p = glm::vec3(node.world * glm::vec4(p, 1.0f));

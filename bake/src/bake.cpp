@@ -133,7 +133,7 @@ CityInput readCity(const std::filesystem::path& cityDir) {
     CityInput city;
     city.glb = readBinaryFile(cityDir / "city.glb");
     city.cityJson = readTextFile(cityDir / "city.json");
-    addNodes(city, loadMeshNodes(cityDir / "city.glb"), {});
+    addNodes(city, loadMeshNodes(cityDir / "city.glb", ReadIn::thisProcess), {});
     // city.json and city.glb must describe the same city.
     try {
         const nlohmann::json j = nlohmann::json::parse(city.cityJson);

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/isolate.hpp>
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
@@ -64,6 +65,15 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string(DAWNFORGE_VERSION));
     cli::CommonOptions common;
     app.add_flag("-q,--quiet", common.quiet, "No progress on stderr");
+    ReaderLimits limits = readerLimits();
+    app.add_option("--read-timeout", limits.seconds,
+                   "Seconds a reader of a user's file (mesh, EXR, PNG) may take before it is stopped")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--read-memory", limits.gigabytes, "Gigabytes of memory a reader of a user's file may use")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.parse_complete_callback([&limits] { setReaderLimits(limits); });
     std::vector<cli::Command> commands = addCommands(app, common);
     try {
         return run(app, commands, common, argc, argv);

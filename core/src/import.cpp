@@ -3,10 +3,12 @@
 // reader (import_off.cpp), every other format through Assimp (import_assimp.cpp).
 #include "import_assimp.hpp"
 #include "import_off.hpp"
+#include "mesh_wire.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/isolate.hpp>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -26,6 +28,7 @@
 #include <iterator>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -600,37 +603,62 @@ std::optional<Mesh> loadWholeMesh(const fs::path& file, const std::string& name,
     return std::nullopt;
 }
 
-}  // namespace
+// What a reader is called in messages: "the FBX reader".
+std::string readerName(const std::string& ext) {
+    if (ext == ".gltf" || ext == ".glb") return "glTF";
+    std::string upper = ext.substr(1);
+    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+    return upper;
+}
 
-Mesh loadMesh(const fs::path& file) {
-    const std::string name = file.string();
+bool isWholeFormat(const std::string& ext) { return ext == ".obj" || ext == ".off"; }
+
+// The nodes of a file, read in this process: a whole-mesh format as one node named after the file.
+std::vector<MeshNode> readNodes(const fs::path& file, const std::string& name, const std::string& ext) {
+    std::optional<Mesh> whole = loadWholeMesh(file, name, ext);
+    if (!whole) return loadNodes(file, name, ext);
+    std::vector<MeshNode> nodes(1);
+    nodes[0].name = file.stem().string();
+    nodes[0].mesh = std::move(*whole);
+    return nodes;
+}
+
+// readNodes where `where` says, after the checks that need no reader.
+std::vector<MeshNode> readNodesIn(ReadIn where, const fs::path& file, const std::string& name) {
     checkReadable(file, name);
     const std::string ext = lowerExtension(file);
-    std::optional<Mesh> whole = loadWholeMesh(file, name, ext);
+    if (where == ReadIn::thisProcess) return readNodes(file, name, ext);
+    if (!isWholeFormat(ext) && ext != ".gltf" && ext != ".glb" && !detail::assimpReadsExtension(ext))
+        return loadNodes(file, name, ext);  // refuses the extension by name, without a child
+    std::vector<MeshNode> nodes;
+    readIsolated(
+        file, readerName(ext),
+        [&] { return detail::encodeNodes(std::make_shared<const std::vector<MeshNode>>(readNodes(file, name, ext))); },
+        [&](AnswerSource& answer) { nodes = detail::decodeNodes(answer, name); });
+    if (isWholeFormat(ext) && nodes.size() != 1)
+        throw InputError(format("{}: the reader's answer is damaged ({} nodes for one mesh)", name, nodes.size()));
+    return nodes;
+}
+
+}  // namespace
+
+Mesh loadMesh(const fs::path& file, ReadIn where) {
+    const std::string name = file.string();
+    std::vector<MeshNode> nodes = readNodesIn(where, file, name);
     Mesh mesh;
-    if (whole) {
-        mesh = std::move(*whole);
+    if (isWholeFormat(lowerExtension(file))) {
+        mesh = std::move(nodes.front().mesh);
     } else {
         mesh.name = file.stem().string();
-        for (const MeshNode& node : loadNodes(file, name, ext)) appendMesh(mesh, node.mesh, node.world);
+        for (const MeshNode& node : nodes) appendMesh(mesh, node.mesh, node.world);
     }
     validateMeshData(mesh, name);
     return mesh;
 }
 
-std::vector<MeshNode> loadMeshNodes(const fs::path& file) {
+std::vector<MeshNode> loadMeshNodes(const fs::path& file, ReadIn where) {
     const std::string name = file.string();
-    checkReadable(file, name);
-    const std::string ext = lowerExtension(file);
-    std::vector<MeshNode> nodes;
-    if (std::optional<Mesh> whole = loadWholeMesh(file, name, ext)) {
-        MeshNode node;
-        node.name = file.stem().string();
-        node.mesh = std::move(*whole);
-        nodes.push_back(std::move(node));
-    } else {
-        nodes = loadNodes(file, name, ext);
-    }
+    std::vector<MeshNode> nodes = readNodesIn(where, file, name);
     for (const MeshNode& node : nodes) validateMeshData(node.mesh, format("{} (node '{}')", name, node.name));
     return nodes;
 }

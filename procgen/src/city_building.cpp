@@ -115,7 +115,7 @@ CityBuilding loadCityBuilding(const std::filesystem::path& cityDir, int id, doub
     out.id = id;
     out.name = buildingName(id);
     const std::string lod0Name = out.name + "_lod0";
-    std::vector<MeshNode> nodes = loadMeshNodes(glbFile);
+    std::vector<MeshNode> nodes = loadMeshNodes(glbFile, ReadIn::thisProcess);
     bool found = false;
     for (const MeshNode& node : nodes)
         if (node.name == lod0Name) {

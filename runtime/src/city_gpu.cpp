@@ -200,7 +200,7 @@ CityCpu buildCityCpu(std::vector<MeshNode> nodes, std::optional<BakedCity> baked
 
 CityCpu loadCityCpu(const std::filesystem::path& cityDir, const std::map<std::uint32_t, double>& until) {
     const std::filesystem::path file = cityDir / "city.glb";
-    std::vector<MeshNode> nodes = loadMeshNodes(file);
+    std::vector<MeshNode> nodes = loadMeshNodes(file, ReadIn::thisProcess);
     std::optional<BakedCity> baked = loadBakedCity(cityDir, readBinaryFile(file));
     return buildCityCpu(std::move(nodes), std::move(baked), false, until);
 }

@@ -105,7 +105,7 @@ TileStreamer::Result TileStreamer::loadNode(int node) const {
         // A tile's city folder (its city.glb with its bake, lamps and proxies), or any other GLB
         // as it is (an HLOD node's carries its bake in its vertices).
         if (n.hlod || n.file.filename() != "city.glb") {
-            r.city = buildCityCpu(loadMeshNodes(n.file), std::nullopt, n.hlod, until_);
+            r.city = buildCityCpu(loadMeshNodes(n.file, ReadIn::thisProcess), std::nullopt, n.hlod, until_);
         } else {
             const std::filesystem::path dir = n.file.parent_path();
             r.city = loadCityCpu(dir, until_);

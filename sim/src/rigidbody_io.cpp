@@ -69,7 +69,7 @@ std::vector<Mesh> loadFragments(const fs::path& dir, std::span<const std::string
     std::error_code ec;
     if (!fs::is_regular_file(glb, ec))
         throw InputError(format("{}: no such file (the {} folder is incomplete)", glb.string(), what));
-    std::vector<MeshNode> nodes = loadMeshNodes(glb);
+    std::vector<MeshNode> nodes = loadMeshNodes(glb, ReadIn::thisProcess);
     if (nodes.size() != names.size())
         throw InputError(format("{}: has {} pieces but {} lists {}; they do not belong together", glb.string(),
                                 nodes.size(), source.string(), names.size()));

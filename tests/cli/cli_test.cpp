@@ -437,6 +437,28 @@ TEST(CliSimulate, SameBytesOnOneAndTwoThreads) {
     EXPECT_EQ(test::readText(dir / "1" / "sim.json"), test::readText(dir / "2" / "sim.json"));
 }
 
+// Files whose readers crashed, corrupted the heap of, or hung the command when they ran in its
+// process (tests/data/hostile/): one line naming the file and what the reader did, exit 2, no
+// output, in every command that reads a user's mesh.
+TEST(Cli, HostileFilesAreOneLineInEveryCommandThatReadsAMesh) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    const std::string out = (dir / "out").string();
+    const std::string crash = test::dataFile("hostile/segfault_binary.ply").string(),
+                      heap = test::dataFile("hostile/heap_corruption.fbx").string(),
+                      hang = test::dataFile("hostile/hang_ascii.ply").string();
+    expectBadInput({"inspect", crash}, crash + ": the PLY reader crashed (signal ");
+    expectBadInput({"inspect", heap}, heap + ": the FBX reader crashed (signal ");
+    expectBadInput({"--read-timeout", "1", "inspect", hang}, hang + ": the PLY reader gave up after 1 s (--read-timeout)");
+    expectBadInput({"fracture", heap, "-o", out}, "the FBX reader crashed");
+    expectBadInput({"fracture", hang, "-o", out, "--read-timeout", "1"}, "the PLY reader gave up after 1 s");
+    expectBadInput({"simulate", (dir / "fracture").string(), "-o", out, "--collider", crash}, "the PLY reader crashed");
+    expectBadInput({"pivots", heap, "-o", out}, "the FBX reader crashed");
+    expectBadInput({"--read-timeout", "0", "inspect", crash}, "--read-timeout");
+    expectBadInput({"--read-memory", "-1", "inspect", crash}, "--read-memory");
+    EXPECT_EQ(dir.entries(), (std::vector<std::string>{"block.obj", "fracture"}));
+}
+
 TEST(CliSimulate, BadInputExits2AndWritesNothing) {
     TempDir dir;
     makeFractureFolder(dir);

@@ -180,4 +180,34 @@ double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
     return total / (4.0 * 3.141592653589793);
 }
 
+void damage(std::string& s, const std::string& donor, Rng& rng) {
+    if (s.empty()) return;
+    const std::size_t at = rng.below(s.size());
+    switch (rng.below(6)) {
+        case 0: s.resize(at); break;
+        case 1:
+            for (int k = rng.range(1, 8); k > 0; --k) s[rng.below(s.size())] ^= static_cast<char>(rng.range(1, 255));
+            break;
+        case 2: s.insert(at, s.substr(at, 1 + rng.below(256))); break;
+        case 3: s.erase(at, 1 + rng.below(256)); break;
+        case 4: {
+            const std::size_t from = rng.below(donor.size()), length = 1 + rng.below(std::min<std::size_t>(64, donor.size() - from));
+            s.replace(at, rng.below(64), donor.substr(from, length));
+            break;
+        }
+        default: {
+            static const char* const kHuge[] = {"4294967295", "2147483648", "99999999999999999999", "1e308", "-1",
+                                                "nan", "\xff\xff\xff\xff", "\xff\xff\xff\x7f", "\x00\x00\x80\x7f"};
+            std::size_t start = at;
+            while (start < s.size() && !std::isdigit(static_cast<unsigned char>(s[start]))) ++start;
+            std::size_t end = start;
+            while (end < s.size() && std::isdigit(static_cast<unsigned char>(s[end]))) ++end;
+            const std::string huge = kHuge[rng.below(std::size(kHuge))];
+            if (end > start) s.replace(start, end - start, huge);
+            else s.replace(at, std::min<std::size_t>(4, s.size() - at), huge.size() == 4 ? huge : std::string(4, '\xff'));
+        }
+    }
+}
+
+
 }  // namespace dawnforge::test

@@ -2,7 +2,9 @@
 // Helpers shared by the test executables: temporary folders, OBJ fixtures, running the
 // dawnforge executable and the Khronos glTF-Validator.
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/isolate.hpp>
 #include <dawnforge/core/mesh.hpp>
+#include <dawnforge/core/seed.hpp>
 
 #include <filesystem>
 #include <string>
@@ -26,6 +28,23 @@ private:
 };
 
 std::filesystem::path dataFile(const std::string& name);  // tests/data/<name>
+
+// One piece of damage to a file's bytes, as a fuzzer would do it: a cut, flipped bytes, a run
+// duplicated, deleted or spliced from `donor`, or a number (a digit run, or four bytes of a
+// binary file) made huge.
+void damage(std::string& bytes, const std::string& donor, Rng& rng);
+
+// Sets the process's reader limits (core/isolate.hpp) until the end of the scope.
+class ScopedReaderLimits {
+public:
+    explicit ScopedReaderLimits(const ReaderLimits& limits) : saved_(readerLimits()) { setReaderLimits(limits); }
+    ~ScopedReaderLimits() { setReaderLimits(saved_); }
+    ScopedReaderLimits(const ScopedReaderLimits&) = delete;
+    ScopedReaderLimits& operator=(const ScopedReaderLimits&) = delete;
+
+private:
+    ReaderLimits saved_;
+};
 std::string readText(const std::filesystem::path& file);
 std::vector<unsigned char> readBytes(const std::filesystem::path& file);
 void writeText(const std::filesystem::path& file, const std::string& text);

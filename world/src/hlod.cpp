@@ -622,7 +622,7 @@ HlodMesh bothPasses(const Mesh& welded, std::size_t target, double limit) {
 
 Mesh tileHlodSource(const fs::path& tileDir) {
     const fs::path glb = tileDir / "city.glb";
-    const std::vector<MeshNode> nodes = loadMeshNodes(glb);
+    const std::vector<MeshNode> nodes = loadMeshNodes(glb, ReadIn::thisProcess);
     const std::optional<BakeIndex> bake = readBakeIndex(tileDir, glb);
     const std::vector<int> tree = treeOfNodes(nodes);
     const std::map<int, Bounds> crowns = crownsOf(nodes, tree);

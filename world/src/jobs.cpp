@@ -168,7 +168,7 @@ std::vector<std::string> hlodJob(const fs::path& worldDir, const WorldPlan& plan
         for (const HlodNode& c : plan.hlod) {
             if (c.level != node.level - 1 || c.index / 2 != node.index) continue;
             const fs::path file = worldDir / (hlodFile(c) + ".glb");
-            for (MeshNode& n : loadMeshNodes(file)) children.push_back(std::move(n.mesh));
+            for (MeshNode& n : loadMeshNodes(file, ReadIn::thisProcess)) children.push_back(std::move(n.mesh));
             moveFrame(children.back(), nodeOrigin(plan, c), origin);
             const nlohmann::json j = nlohmann::json::parse(readTextFile(worldDir / (hlodFile(c) + ".json")));
             childError = std::max(childError, j.at("geometric_error").get<double>());

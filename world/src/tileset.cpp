@@ -31,7 +31,7 @@ struct Box {
 // The bounds of a GLB's meshes, turned from glTF's y-up axes to 3D Tiles' z-up ones.
 Box glbBounds(const fs::path& file) {
     Box box;
-    for (const MeshNode& n : loadMeshNodes(file))
+    for (const MeshNode& n : loadMeshNodes(file, ReadIn::thisProcess))
         for (const glm::vec3& p : n.mesh.positions) {
             const glm::vec4 w = n.world * glm::vec4(p, 1.0f);
             box.add({w.x, -w.z, w.y});

@@ -12,6 +12,12 @@
 
 namespace dawnforge {
 
+// Where a file's reader runs. A user's file goes to a child process (isolate.hpp): a reader
+// that crashes, hangs or corrupts its heap there costs one error line, not the process. A
+// file that dawnforge wrote itself (a city's, a world's tiles) may be read in this process,
+// which costs no fork, from any thread.
+enum class ReadIn { child, thisProcess };
+
 // Reads a whole file as one mesh in world space (node transforms applied, OBJ groups
 // merged, polygons triangulated, points and lines skipped). Chooses the reader by
 // extension: .obj, .gltf, .glb, .off, or any extension Assimp knows. FBX and Collada units and up
@@ -19,8 +25,8 @@ namespace dawnforge {
 // metres as they are. Only glTF carries material IDs (COLOR_0); other formats leave
 // materialIds empty. Throws InputError naming the file if it is missing, empty,
 // unparsable, glTF 1.0 or Draco-compressed, has no triangles, a non-finite coordinate or
-// an index out of range.
-Mesh loadMesh(const std::filesystem::path& file);
+// an index out of range; a ReaderFailure if the reader crashed or ran past its limits.
+Mesh loadMesh(const std::filesystem::path& file, ReadIn where = ReadIn::child);
 
 // A node that shows a mesh: its name, its world transform (with the file's unit and axis
 // conversion), its mesh in the node's own coordinates (all primitives merged) and its parent:
@@ -36,6 +42,6 @@ struct MeshNode {
 // default scene's roots, so a parent comes before its children); an OBJ or OFF file is one
 // node named after the file. Each node's mesh
 // gets the checks of loadMesh.
-std::vector<MeshNode> loadMeshNodes(const std::filesystem::path& file);
+std::vector<MeshNode> loadMeshNodes(const std::filesystem::path& file, ReadIn where = ReadIn::child);
 
 }  // namespace dawnforge
