@@ -5,6 +5,7 @@
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/isolate.hpp>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -17,6 +18,7 @@
 #include <cstdint>
 #include <exception>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -53,11 +55,12 @@ glm::dvec3 vec3(const Json& j, const std::string& what, const std::string& file)
 }
 
 // RGBA as float (OpenEXR converts half exactly), row 0 = the first row in the file (the top).
-std::vector<float> readExr(const std::filesystem::path& path, const VatLayout& layout, bool& half) {
-    const std::string file = path.string();
+// In this process: the isolated reader below runs it in a child.
+std::vector<float> decodeExr(const std::string& file, const VatLayout& layout, bool& half) {
     std::vector<float> rgba;
     try {
-        Imf::InputFile in(file.c_str(), 1);
+        // No thread pool: in a forked child, a pool the parent started has no threads.
+        Imf::InputFile in(file.c_str(), 0);
         const Imf::Header& header = in.header();
         const Imath::Box2i window = header.dataWindow();
         const long long width = (long long)window.max.x - window.min.x + 1;
@@ -84,6 +87,37 @@ std::vector<float> readExr(const std::filesystem::path& path, const VatLayout& l
     } catch (const std::exception& e) {
         throw InputError(format("{}: not a readable OpenEXR file: {}", file, oneLine(e.what())));
     }
+    return rgba;
+}
+
+// decodeExr in a child process (core/isolate.hpp): a user hands in a VAT folder, and OpenEXR
+// is a large parser of binary data. The answer is the half flag and exactly the layout's texels.
+std::vector<float> readExr(const std::filesystem::path& path, const VatLayout& layout, bool& half) {
+    const std::string file = path.string();
+    const std::size_t texels = std::size_t(layout.width) * std::size_t(layout.height);
+    std::vector<float> rgba;
+    readIsolated(
+        path, "EXR",
+        [&] {
+            auto decoded = std::make_shared<std::vector<float>>();
+            bool isHalf = false;
+            *decoded = decodeExr(file, layout, isHalf);
+            return Answer{1 + decoded->size() * sizeof(float), [decoded, isHalf](AnswerSink& sink) {
+                              const char flag = isHalf ? 1 : 0;
+                              sink.write(&flag, 1);
+                              sink.write(decoded->data(), decoded->size() * sizeof(float));
+                          }};
+        },
+        [&](AnswerSource& answer) {
+            if (answer.left() != 1 + texels * 4 * sizeof(float))
+                throw InputError(format("{}: the EXR reader's answer is damaged ({} bytes for {} texels)", file,
+                                        answer.left(), texels));
+            char flag = 0;
+            answer.read(&flag, 1);
+            half = flag != 0;
+            rgba.resize(texels * 4);
+            answer.read(rgba.data(), rgba.size() * sizeof(float));
+        });
     for (std::size_t i = 0; i < rgba.size(); ++i)
         if (!std::isfinite(rgba[i]))
             throw InputError(format("{}: texel ({}, {}) holds a value that is not finite", file,

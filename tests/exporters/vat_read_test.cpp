@@ -3,6 +3,8 @@
 #include "test_support.hpp"
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/isolate.hpp>
+#include <dawnforge/core/seed.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/exporters/vat_read.hpp>
@@ -14,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -178,6 +181,45 @@ TEST(VatRead, TextureThatIsNotAnExr) {
     test::writeText(dir / "crate_rot.exr", "not an image");
     const std::string message = inputErrorOf([&] { readVat(dir.path(), "crate"); });
     EXPECT_TRUE(contains(message, "crate_rot.exr")) << message;
+}
+
+// OpenEXR is a large parser of binary data, and a user hands in VAT folders: damaged position
+// textures (float and half, bytes flipped, cut, spliced, numbers made huge) are read in a
+// child process (core/isolate.hpp) and come back as texels that are all finite, or as one
+// line naming the file. How often OpenEXR itself crashed or hung is printed.
+TEST(VatRead, DamagedTexturesAreReadSafelyOrRefused) {
+    const test::TempDir dir;
+    const test::ScopedReaderLimits limits({.seconds = DAWNFORGE_SANITIZED ? 5.0 : 2.0, .gigabytes = 2.0});
+    Rng rng(deriveSeed(5, "vat-exr-fuzz"));
+    std::map<std::string, int> outcomes;
+    const int cases = DAWNFORGE_SANITIZED ? 200 : 2000;
+    for (int i = 0; i < cases; ++i) {
+        const bool half = i % 2 == 1;
+        const std::string name = half ? "half" : "full";
+        if (i < 2) bake(dir.path(), name, 7, half);
+        const std::filesystem::path texture = dir / (name + "_pos.exr"), good = dir / (name + "_pos.good");
+        if (i < 2) std::filesystem::copy_file(texture, good);
+        std::string bytes = test::readText(good);
+        for (int d = rng.range(1, 3); d > 0; --d) test::damage(bytes, bytes, rng);
+        std::filesystem::remove(texture);
+        test::writeText(texture, bytes);
+        try {
+            const VatFile read = readVat(dir.path(), name);
+            ASSERT_EQ(read.position.size(), std::size_t(read.layout.width) * read.layout.height * 4);
+            for (float v : read.position) ASSERT_TRUE(std::isfinite(v)) << "case " << i;
+            ++outcomes["read"];
+        } catch (const ReaderFailure& e) {
+            ++outcomes[std::string("reader ") + (e.kind() == ReaderFailure::Kind::Crashed ? "crashed" : "stopped")];
+            ASSERT_TRUE(contains(e.what(), texture.string())) << e.what();
+        } catch (const InputError& e) {
+            ++outcomes["refused"];
+            ASSERT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+        }
+    }
+    std::string summary;
+    for (const auto& [outcome, count] : outcomes) summary += " " + outcome + " " + std::to_string(count) + ";";
+    std::printf("%d damaged VAT position textures:%s\n", cases, summary.c_str());
+    EXPECT_GT(outcomes["refused"], cases / 4);
 }
 
 TEST(VatRead, MeshWithADifferentPieceCount) {
