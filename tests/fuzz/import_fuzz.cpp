@@ -2,6 +2,7 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/isolate.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -53,6 +54,11 @@ void loadOrRefuse(const std::uint8_t* data, std::size_t size, const char* extens
         checkMesh(loadMesh(file));
         if (std::string_view(extension) != ".obj")
             for (const MeshNode& node : loadMeshNodes(file)) checkMesh(node.mesh);
+    } catch (const ReaderFailure& e) {
+        // The reader ran in a child (core/isolate.hpp), which kept this process alive; the
+        // input is still a finding: the reader crashed, hung or ran out of memory on it.
+        std::fprintf(stderr, "import fuzz: %s\n", e.what());
+        std::abort();
     } catch (const InputError& e) {
         check(std::string_view(e.what()).find('\n') == std::string_view::npos, "an InputError has several lines");
     }
