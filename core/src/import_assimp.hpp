@@ -1,6 +1,6 @@
 #pragma once
 // Mesh import through Assimp: FBX, Collada, STL, PLY, 3DS and the other formats it
-// reads. Private to core (STYLE.md 2): no Assimp type leaves import_assimp.cpp.
+// reads. Private to core (docs/STYLE.md 2): no Assimp type leaves import_assimp.cpp.
 #include <dawnforge/core/import.hpp>
 
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// Plain-data front of the CGAL code the city plan needs (STYLE.md 2): the faces of a
+// Plain-data front of the CGAL code the city plan needs (docs/STYLE.md 2): the faces of a
 // segment arrangement. Every CGAL type stays in arrangement.cpp.
 #include <dawnforge/procgen/geometry2d.hpp>
 

@@ -1,4 +1,4 @@
-// Fuzzing what parses (STYLE.md 10), as a deterministic test of mesh import: damaged OBJ,
+// Fuzzing what parses (docs/STYLE.md 10), as a deterministic test of mesh import: damaged OBJ,
 // glTF and GLB files (truncated, bytes flipped, pieces spliced, huge counts, NaN, bad
 // indices) either load as a mesh that is safe to use (indices in range, finite positions,
 // attributes of the right length) or fail with a one-line InputError. Never a crash, a

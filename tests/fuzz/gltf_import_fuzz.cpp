@@ -1,4 +1,4 @@
-// libFuzzer target: glTF and GLB import (STYLE.md 10). Any input loads as a usable mesh or
+// libFuzzer target: glTF and GLB import (docs/STYLE.md 10). Any input loads as a usable mesh or
 // is refused with a one-line InputError; nothing else may happen (tests/fuzz/import_fuzz.hpp).
 // The reader tells GLB from glTF text by the magic "glTF", so one target covers both.
 // Seed it with files the exporters write, e.g.

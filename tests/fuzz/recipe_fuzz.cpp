@@ -1,4 +1,4 @@
-// libFuzzer target: recipe parsing (STYLE.md 10). Any input either parses or throws an
+// libFuzzer target: recipe parsing (docs/STYLE.md 10). Any input either parses or throws an
 // InputError whose message is one line; nothing else may happen.
 //   cmake -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DDAWNFORGE_BUILD_FUZZERS=ON
 //   cmake --build build-fuzz --target recipe_fuzz && build-fuzz/bin/recipe_fuzz examples/recipes/

@@ -1,4 +1,4 @@
-// Fuzzing what parses (STYLE.md 10), as a deterministic test: mutated recipes either parse
+// Fuzzing what parses (docs/STYLE.md 10), as a deterministic test: mutated recipes either parse
 // or fail with an InputError, and every recipe that parses generates a small city (or is
 // refused with an InputError) without crashing. tests/fuzz/recipe_fuzz.cpp is the libFuzzer
 // target for longer runs (clang, DAWNFORGE_BUILD_FUZZERS=ON).

@@ -1,5 +1,5 @@
 #pragma once
-// Two kinds of failure (STYLE.md 5): bad input from a user is an InputError carrying a
+// Two kinds of failure (docs/STYLE.md 5): bad input from a user is an InputError carrying a
 // sentence they can act on (the CLI prints it as one line and exits 2); a programmer's
 // mistake is DAWNFORGE_ASSERT, which names the function and aborts.
 #include <stdexcept>

@@ -1,6 +1,6 @@
 #pragma once
 // The core mesh: plain indexed triangles with optional per-vertex attributes
-// (STYLE.md 3). Units are metres, +Y up, counter-clockwise front faces (as glTF).
+// (docs/STYLE.md 3). Units are metres, +Y up, counter-clockwise front faces (as glTF).
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// Long work reports progress and can be asked to stop (STYLE.md 13).
+// Long work reports progress and can be asked to stop (docs/STYLE.md 13).
 #include <chrono>
 #include <functional>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Every parameter of `dawnforge city`, with its default (STYLE.md 4). A JSON recipe sets any
+// Every parameter of `dawnforge city`, with its default (docs/STYLE.md 4). A JSON recipe sets any
 // of them by the same names (`{"buildings": {"max_floors": 12}}`); an unknown key is an error
 // that names it. Lengths in metres; chances in [0, 1].
 #include <cstdint>
