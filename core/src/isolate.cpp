@@ -287,14 +287,38 @@ private:
     std::size_t at_ = 0;
 };
 
-// Kills the child and whatever it started (its process group) and reaps it; its status.
-int endChild(pid_t child, bool kill) {
-    if (kill) ::kill(-child, SIGKILL);
-    int status = 0;
-    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+// True once the child has exited, waiting no later than `deadline` (a pidfd becomes readable
+// when its process ends; without one, on an old kernel, this waits as long as it takes).
+bool exitsBy(pid_t child, std::chrono::steady_clock::time_point deadline) {
+    const int pidfd = int(::syscall(SYS_pidfd_open, child, 0));
+    if (pidfd < 0) return true;
+    bool exited = false;
+    for (;;) {
+        const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+        pollfd p{pidfd, POLLIN, 0};
+        const int ready = ::poll(&p, 1, int(std::clamp<long long>(wait.count() + 1, 0, 1 << 30)));
+        if (ready > 0) exited = true;
+        if (ready > 0 || (ready == 0 && wait.count() <= 0) || (ready < 0 && errno != EINTR)) break;
     }
-    ::kill(-child, SIGKILL);  // anything the child left behind in its group
-    return status;
+    ::close(pidfd);
+    return exited;
+}
+
+struct ChildEnd {
+    int status = 0;
+    bool killedAtDeadline = false;  // it closed the pipe but had not exited by the deadline
+};
+
+// Reaps the child: killed at once if `kill`, else when it exits, but killed at `deadline` if it
+// lingers. Then kills whatever it left behind in its process group.
+ChildEnd endChild(pid_t child, bool kill, std::chrono::steady_clock::time_point deadline) {
+    ChildEnd end;
+    if (!kill && !exitsBy(child, deadline)) end.killedAtDeadline = kill = true;
+    if (kill) ::kill(-child, SIGKILL);
+    while (::waitpid(child, &end.status, 0) < 0 && errno == EINTR) {
+    }
+    ::kill(-child, SIGKILL);
+    return end;
 }
 
 // The ReaderFailure that the child's status, or a cut record, stands for.
@@ -342,12 +366,14 @@ void receive(pid_t child, int fd, const std::string& name, std::string_view read
         if (source.left() != 0 || !source.atEnd())
             throw InputError(format("{}: the reader's answer is damaged ({} bytes unread)", name, source.left()));
     } catch (const RecordCut& cut) {
-        throw failure(endChild(child, cut.timedOut), cut.timedOut, name, reader, limits);
+        const ChildEnd end = endChild(child, cut.timedOut, deadline);
+        throw failure(end.status, cut.timedOut || end.killedAtDeadline, name, reader, limits);
     } catch (...) {
-        endChild(child, true);  // an error record, a refused answer: the child is not needed any more
+        endChild(child, true, deadline);  // an error record, a refused answer: the child is not needed any more
         throw;
     }
-    endChild(child, false);
+    if (endChild(child, false, deadline).killedAtDeadline)
+        throw failure(0, true, name, reader, limits);  // the answer was whole, but the child would not end
 }
 
 }  // namespace

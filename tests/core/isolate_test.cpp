@@ -78,8 +78,12 @@ TEST(Isolate, AReaderThatHangsIsStoppedAtTheTimeLimit) {
     for (const bool sleeping : {true, false}) {
         const auto start = std::chrono::steady_clock::now();
         const ReaderFailure f = failureOf([sleeping]() -> Answer {
-            for (volatile unsigned long spin = 0;; spin = spin + 1)
+            volatile unsigned long spin = 0;  // busy, and not optimised away
+            for (;;) {
+                const unsigned long next = spin + 1;
+                spin = next;
                 if (sleeping) ::pause();
+            }
         });
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         EXPECT_EQ(f.kind(), ReaderFailure::Kind::TimedOut) << f.what();
@@ -87,6 +91,18 @@ TEST(Isolate, AReaderThatHangsIsStoppedAtTheTimeLimit) {
         EXPECT_GE(seconds, 0.9);
         EXPECT_LT(seconds, 10.0);
     }
+}
+
+// A reader that closes its end of the pipe and lingers is still stopped at the time limit: the
+// parent waits for its exit no longer than for its answer.
+TEST(Isolate, AReaderThatLingersAfterThePipeIsStoppedAtTheTimeLimit) {
+    const test::ScopedReaderLimits limits({.seconds = 1.0});
+    const ReaderFailure f = failureOf([]() -> Answer {
+        ::close(3);
+        for (;;) ::pause();
+    });
+    EXPECT_EQ(f.kind(), ReaderFailure::Kind::TimedOut) << f.what();
+    EXPECT_STREQ(f.what(), "input.bin: the TEST reader gave up after 1 s (--read-timeout)");
 }
 
 TEST(Isolate, AReaderThatWantsTooMuchMemoryIsStopped) {
