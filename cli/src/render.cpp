@@ -57,20 +57,27 @@ std::unique_ptr<runtime::GlContext> headlessContext() {
     }
 }
 
-struct ProbeOptions {
-    std::optional<std::string> preset;
-    bool show = false;
+// What `render` and `view` change in the scene they read.
+struct SceneOverrides {
+    std::optional<std::string> probePreset;
+    bool showProbes = false;
+    std::optional<double> exposure;  // pins it
     void apply(runtime::SceneFile& scene) const {
-        if (preset) scene.probes.preset = *preset;
-        if (show) scene.probes.show = true;
+        if (probePreset) scene.probes.preset = *probePreset;
+        if (showProbes) scene.probes.show = true;
+        if (exposure) scene.exposure.fixed = *exposure;
     }
 };
 
-void addProbesOptions(CLI::App& cmd, ProbeOptions& probes) {
-    cmd.add_option("--probes", probes.preset,
+void addSceneOverrides(CLI::App& cmd, SceneOverrides& o) {
+    cmd.add_option("--probes", o.probePreset,
                    "Irradiance probes: off, low, mid or high (default: the scene's \"probes\"; any but off needs the city's bake)")
         ->check(CLI::IsMember({"off", "low", "mid", "high"}));
-    cmd.add_flag("--show-probes", probes.show, "Draw each probe as a small sphere lit by it (the probes' debug view)");
+    cmd.add_flag("--show-probes", o.showProbes, "Draw each probe as a small sphere lit by it (the probes' debug view)");
+    cmd.add_option("--exposure", o.exposure,
+                   "Pin the exposure: the HDR colour's multiplier before the tone curve (default: the scene's \"exposure\", "
+                   "automatic unless it has \"fixed\")")
+        ->check(CLI::PositiveNumber);
 }
 
 // How a world scene streams; ignored for a city.
@@ -94,7 +101,7 @@ struct RenderOptions {
     std::optional<int> frame;          // time = frame / fps; default: the scene's time
     bool stats = false;
     int repeat = 5;                    // --stats: timed frames after one warm-up; the median is reported
-    ProbeOptions probes;               // override the scene's
+    SceneOverrides overrides;          // of the scene's probes and exposure
     runtime::RendererOptions renderer;
 };
 
@@ -107,7 +114,7 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
     if (options.timeOfDay && !(*options.timeOfDay >= 0.0 && *options.timeOfDay <= 24.0))
         throw InputError(format("--time-of-day: expected hours from 0 to 24 (got {})", *options.timeOfDay));
     runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
-    options.probes.apply(scene);
+    options.overrides.apply(scene);
     if (options.output.has_parent_path()) ensureOutputDirectory(options.output.parent_path());
 
     const auto context = headlessContext();
@@ -162,14 +169,14 @@ int runRender(const RenderOptions& options, const CommonOptions& common) {
 struct ViewOptions {
     std::filesystem::path sceneFile;
     std::string camera;
-    ProbeOptions probes;
+    SceneOverrides overrides;
     int frames = 0;  // > 0: close after this many frames (smoke tests, timing the window path)
     runtime::RendererOptions renderer;
 };
 
 int runView(const ViewOptions& options, const CommonOptions& common) {
     runtime::SceneFile scene = runtime::loadSceneFile(options.sceneFile);
-    options.probes.apply(scene);
+    options.overrides.apply(scene);
     const auto window =
         runtime::GlContext::window(options.renderer.size, "dawnforge view: " + options.sceneFile.string());
     runtime::RendererOptions ro = options.renderer;
@@ -212,6 +219,7 @@ int runView(const ViewOptions& options, const CommonOptions& common) {
         frame.cameraVelocity = velocity;
         frame.timeOfDay = std::fmod(frame.timeOfDay + in.timeOfDayDelta + 24.0, 24.0);
         frame.time = scene.time + std::chrono::duration<double>(now - restartAt).count();
+        frame.adaptSeconds = drawn == 0 ? 0.0 : dt;  // the first frame's exposure converges
         const glm::ivec2 fb = window->framebufferSize();
         renderer.resize(fb);
         renderer.render(frame);
@@ -239,7 +247,7 @@ Command addRender(CLI::App& app, CommonOptions& common) {
     cmd->add_option("--time-of-day", o->timeOfDay, "Hours, 0 to 24 (default: the scene's)");
     cmd->add_option("--frame", o->frame, "Frame number: scene time = frame / fps (default: the scene's time)")
         ->check(CLI::NonNegativeNumber);
-    addProbesOptions(*cmd, o->probes);
+    addSceneOverrides(*cmd, o->overrides);
     addStreamingOptions(*cmd, o->renderer.streaming);
     cmd->add_flag("--stats", o->stats, "Print per-pass GPU and CPU times as JSON on stdout");
     cmd->add_option("--repeat", o->repeat, "With --stats: timed frames after a warm-up (median reported)")
@@ -255,7 +263,7 @@ Command addView(CLI::App& app, CommonOptions& common) {
     cmd->add_option("SCENE", o->sceneFile, "Scene file (scene.json)")->required();
     addImageSizeOption(*cmd, o->renderer.size, "Window size WxH");
     cmd->add_option("--camera", o->camera, "Named camera to start from");
-    addProbesOptions(*cmd, o->probes);
+    addSceneOverrides(*cmd, o->overrides);
     addStreamingOptions(*cmd, o->renderer.streaming);
     cmd->add_option("--frames", o->frames, "Close after this many frames (0: when the window is closed)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();

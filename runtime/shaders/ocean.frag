@@ -4,12 +4,43 @@
 // rows lowest on screen first, so farther water behind nearer water fails the depth test
 // and nothing needs sorting.
 #include "common.glsl"
+#include "ocean_block.glsl"
 in vec3 vWorld;
 in vec3 vNormal;
 in float vShore;
+in vec3 vPlane;
+layout(location = 0) uniform float ripples;  // 1 or 0 (scene "ocean.ripples")
 layout(location = 0) out vec4 outColor;
+
+// Ripples the grid is too coarse to carry: the slope of the noise height (ocean_waves.glsl's
+// noiseHeight) per pixel, steepened RIPPLE_GAIN times, from its four channels at their own scale
+// and once more at RIPPLE_FINE times the finest. The texture is mipmapped: where a pixel covers
+// many texels the differences shrink, so far water keeps the grid's smooth normals, without moiré.
+const float RIPPLE_GAIN = 6.0;
+const float RIPPLE_FINE = 3.0;
+
+vec2 channelSlope(vec2 xz, float t, int c, float times) {
+    float scale = ocean.noiseScale[c] * times;
+    vec2 uv = xz * scale + vec2(ocean.noiseDriftX[c], ocean.noiseDriftY[c]) * t * times;
+    float e = 1.0 / float(textureSize(waveNoise, 0).x);
+    vec2 dx = dFdx(uv), dy = dFdy(uv);  // the same footprint for the four taps
+    float hx = textureGrad(waveNoise, uv + vec2(e, 0.0), dx, dy)[c] - textureGrad(waveNoise, uv - vec2(e, 0.0), dx, dy)[c];
+    float hz = textureGrad(waveNoise, uv + vec2(0.0, e), dx, dy)[c] - textureGrad(waveNoise, uv - vec2(0.0, e), dx, dy)[c];
+    return vec2(hx, hz) / (2.0 * e) * scale;  // per metre
+}
+
+vec2 rippleSlope(vec2 xz, float t) {
+    const vec4 weights = vec4(0.4, 0.3, 0.2, 0.1);  // OCEAN_NOISE_WEIGHTS
+    vec2 slope = vec2(0.0);
+    for (int c = 0; c < 4; ++c) slope += weights[c] * channelSlope(xz, t, c, 1.0);
+    slope += weights[3] * channelSlope(xz, t, 3, RIPPLE_FINE);
+    return ripples * RIPPLE_GAIN * ocean.params.z * slope;
+}
+
 void main() {
     vec3 n = normalize(vNormal);
+    vec2 ripple = rippleSlope(vPlane.xy, frame.cameraPos.w) * vPlane.z;
+    n = normalize(n - vec3(ripple.x, 0.0, ripple.y) * n.y);
     vec3 toFragment = vWorld - frame.cameraPos.xyz;
     float distance = length(toFragment);
     vec3 V = toFragment / max(distance, 1e-6);

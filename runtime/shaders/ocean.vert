@@ -8,22 +8,11 @@
 #include "ocean_waves.glsl"
 layout(location = 0) in vec2 aGrid;  // (column / (columns − 1), row)
 layout(std430, binding = 1) readonly buffer Rows { float rowNdcY[]; };
-layout(std140, binding = 2) uniform Ocean {
-    vec4 waveDirs01;   // direction of waves 0 and 1 (x, z, x, z)
-    vec4 waveDirs23;
-    vec4 amplitude;
-    vec4 wavelength;
-    vec4 steepness;
-    vec4 phase;
-    vec4 noiseScale;
-    vec4 noiseDriftX;
-    vec4 noiseDriftY;
-    vec4 params;       // level, shore depth, noise amplitude, grid columns
-} ocean;
-layout(binding = 5) uniform sampler2D waveNoise;
+#include "ocean_block.glsl"
 out vec3 vWorld;
 out vec3 vNormal;
 out float vShore;  // 0 at the shore, 1 in open water
+out vec3 vPlane;   // world x, z of the undisplaced point (the waves' phase space) and the waves' attenuation
 
 float shoreAttenuation(vec2 xz) {
     float ground = overlookHeight(xz);
@@ -50,5 +39,6 @@ void main() {
     vWorld = vec3(p0.x + d.x, level + d.y + detail, p0.z + d.z);
     vNormal = normal;
     vShore = shore;
+    vPlane = vec3(phaseXz, attenuation);
     gl_Position = frame.viewProj * vec4(vWorld, 1.0);
 }

@@ -1,7 +1,7 @@
 #version 450 core
-// HDR → display: exposure, the ACES filmic fit (Narkowicz 2015), sRGB encoding.
+// HDR → display: the frame's exposure (exposure.comp), the ACES filmic fit (Narkowicz 2015), sRGB encoding.
 layout(binding = 0) uniform sampler2D hdr;
-layout(location = 0) uniform float exposure;
+layout(std430, binding = 9) readonly buffer Exposure { float exposure; float sceneLuminance; float target; float pad; };
 in vec2 vNdc;
 layout(location = 0) out vec4 outColor;
 vec3 aces(vec3 x) {

@@ -22,10 +22,14 @@ inline OceanUniforms oceanUniforms(const WaveSet& waves, double level, double sh
             glm::vec4(float(level), float(shoreDepth), g.noiseAmplitude, float(columns))};
 }
 
-// The noise texture as the vertex shader samples it: RGBA32F, GL_LINEAR, GL_REPEAT, one level.
+// The noise texture: RGBA32F, GL_REPEAT, with its mip chain for ocean.frag's ripples (the vertex
+// shader and gpu_checks.comp read level 0, GL_LINEAR).
 inline gl::Texture uploadWaveNoise(const WaveNoise& noise) {
-    gl::Texture t = gl::makeTexture2D(GL_RGBA32F, noise.size, noise.size, 1, GL_LINEAR, GL_LINEAR, GL_REPEAT);
+    int levels = 1;
+    while ((noise.size >> levels) > 0) ++levels;
+    gl::Texture t = gl::makeTexture2D(GL_RGBA32F, noise.size, noise.size, levels, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_REPEAT);
     glTextureSubImage2D(t.id(), 0, 0, 0, noise.size, noise.size, GL_RGBA, GL_FLOAT, noise.rgba.data());
+    glGenerateTextureMipmap(t.id());
     return t;
 }
 

@@ -123,7 +123,8 @@ struct Renderer::State {
     RendererOptions options;
     SceneGpu scene;
     Target target;
-    gl::Program sky, tonemap;
+    gl::Program sky, tonemap, exposure;
+    gl::Buffer exposureState;  // exposure.comp's: the exposure, the scene's luminance, the target
     gl::Buffer frameUbo;
     gl::VertexArray emptyVao;
     FrameGraph graph;
@@ -139,7 +140,7 @@ struct Renderer::State {
     FrameStats stats;
     glm::mat4 viewProj{1.0f};
     glm::dvec3 cameraPos{0.0};
-    double exposure = 1.0;
+    ExposureSettings exposureSettings;
     double loadSeconds = 0.0;
     bool synchronise = false;
     std::string probesOn = "off";  // the preset drawn
@@ -199,6 +200,21 @@ void Renderer::State::addPasses() {
         s.stats.drawCalls += s.scene.drawOcean(s.stats);
         glDisable(GL_BLEND);
     });
+    // Measured before the flares: a lens's ghosts do not close the eye.
+    s.graph.add("exposure", [&s] {
+        const ExposureSettings& e = s.exposureSettings;
+        glUseProgram(s.exposure.id());
+        glBindTextureUnit(0, s.target.hdr.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, s.exposureState.id());
+        const double night = s.lighting.night;
+        const double key = e.key * std::exp2(e.nightStops * night);
+        const double max = std::exp2(glm::mix(std::log2(e.max), std::log2(e.nightMax), night));
+        glUniform4f(0, float(key), float(e.min), float(max), e.fixed ? float(*e.fixed) : 0.0f);
+        const double dt = s.frame.adaptSeconds;
+        glUniform1f(1, dt > 0.0 ? float(1.0 - std::exp(-e.speed * dt)) : 1.0f);
+        glDispatchCompute(1, 1, 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    });
     s.graph.add("flares", [&s] {
         if (!s.lensFlares) return;
         glBindFramebuffer(GL_FRAMEBUFFER, s.target.flareFbo.id());
@@ -210,7 +226,7 @@ void Renderer::State::addPasses() {
         glDisable(GL_DEPTH_TEST);
         glUseProgram(s.tonemap.id());
         glBindTextureUnit(0, s.target.hdr.id());
-        glUniform1f(0, float(s.exposure));
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, s.exposureState.id());
         glBindVertexArray(s.emptyVao.id());
         glDrawArrays(GL_TRIANGLES, 0, 3);
         s.stats.drawCalls += 1;
@@ -256,6 +272,10 @@ Renderer::Renderer(const SceneFile& sceneFile, const RendererOptions& options) :
     s.target = makeTarget(options.size);
     s.sky = gl::makeProgram("fullscreen.vert", "sky.frag");
     s.tonemap = gl::makeProgram("fullscreen.vert", "tonemap.frag");
+    s.exposure = gl::makeComputeProgram("exposure.comp");
+    s.exposureSettings = sceneFile.exposure;
+    const float noExposureYet[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    s.exposureState = gl::makeBuffer(noExposureYet, sizeof(noExposureYet), GL_DYNAMIC_STORAGE_BIT);
     s.frameUbo = gl::makeBuffer(nullptr, sizeof(FrameBlock), GL_DYNAMIC_STORAGE_BIT);
     s.emptyVao = gl::makeVertexArray();
 
@@ -346,7 +366,6 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     const Lighting light = lightingAt(frame.timeOfDay);
     s.lighting = light;
     s.lens = glm::vec4(float(kNear), float(kFar), float(proj[1][1]), 0.0f);
-    s.exposure = 1.0 / (0.35 + 0.65 * (1.0 - light.night)) * 0.9;
     FrameBlock block;
     block.viewProj = glm::mat4(viewProj);
     block.invViewProj = glm::mat4(glm::inverse(viewProj));
@@ -369,6 +388,10 @@ FrameStats Renderer::render(const FrameSettings& frame) {
     s.graph.execute(s.synchronise);
     glFinish();
     s.graph.collect(s.stats.passes);
+    float exposure[2] = {0.0f, 0.0f};
+    glGetNamedBufferSubData(s.exposureState.id(), 0, sizeof(exposure), exposure);
+    s.stats.exposure = exposure[0];
+    s.stats.sceneLuminance = exposure[1];
     s.stats.frameMs = msSince(t0) - s.stats.streaming.waitMs;  // the frame's cost, not its wait for tiles
     gl::check("rendering a frame");
     return s.stats;
@@ -421,6 +444,7 @@ std::string frameStatsJson(const FrameStats& stats, glm::ivec2 size, const std::
         gpu += p.gpuMs;
     }
     j["gpu_ms"] = ms(gpu);
+    j["exposure"] = {{"value", std::round(stats.exposure * 1e4) / 1e4}, {"scene_luminance", std::round(stats.sceneLuminance * 1e5) / 1e5}};
     j["draw_calls"] = stats.drawCalls;
     j["triangles"] = stats.triangles;
     j["ocean_vertices"] = stats.oceanVertices;

@@ -121,7 +121,7 @@ struct Reader {
 };
 
 OceanSettings readOcean(const Reader& r, const Json& j) {
-    r.object(j, "ocean", {"level", "grid", "shore_depth"});
+    r.object(j, "ocean", {"level", "grid", "shore_depth", "ripples"});
     OceanSettings ocean;
     if (j.contains("level")) ocean.level = r.number(j["level"], "ocean.level");
     if (j.contains("grid")) {
@@ -133,6 +133,7 @@ OceanSettings readOcean(const Reader& r, const Json& j) {
     }
     if (j.contains("shore_depth"))
         ocean.shoreDepth = r.number(j["shore_depth"], "ocean.shore_depth", 0.0, true, kInf, false);
+    if (j.contains("ripples")) ocean.ripples = r.boolean(j["ripples"], "ocean.ripples");
     return ocean;
 }
 
@@ -163,6 +164,21 @@ ProbeSettings readProbes(const Reader& r, const Json& j) {
     if (j.contains("multi_bounce")) probes.multiBounce = r.boolean(j["multi_bounce"], "probes.multi_bounce");
     if (j.contains("show")) probes.show = r.boolean(j["show"], "probes.show");
     return probes;
+}
+
+ExposureSettings readExposure(const Reader& r, const Json& j) {
+    r.object(j, "exposure", {"key", "night_stops", "min", "max", "night_max", "speed", "fixed"});
+    ExposureSettings e;
+    if (j.contains("key")) e.key = r.number(j["key"], "exposure.key", 0.0, true, kInf, false);
+    if (j.contains("night_stops")) e.nightStops = r.number(j["night_stops"], "exposure.night_stops", -10.0, false, 10.0, false);
+    if (j.contains("min")) e.min = r.number(j["min"], "exposure.min", 0.0, true, kInf, false);
+    if (j.contains("max")) e.max = r.number(j["max"], "exposure.max", 0.0, true, kInf, false);
+    if (e.min > e.max) r.fail(format("\"exposure.min\" ({}) is above \"exposure.max\" ({})", e.min, e.max));
+    if (j.contains("night_max")) e.nightMax = r.number(j["night_max"], "exposure.night_max", e.min, false, e.max, false);
+    e.nightMax = std::clamp(e.nightMax, e.min, e.max);
+    if (j.contains("speed")) e.speed = r.number(j["speed"], "exposure.speed", 0.0, true, kInf, false);
+    if (j.contains("fixed") && !j["fixed"].is_null()) e.fixed = r.number(j["fixed"], "exposure.fixed", 0.0, true, kInf, false);
+    return e;
 }
 
 DestructionInstance readDestruction(const Reader& r, const Json& j, const std::string& path) {
@@ -217,7 +233,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     }
     if (!root.is_object()) r.fail(format("a scene must be a JSON object {{\"format\": \"{}\", \"version\": {}, ...}}", kFormat, kVersion));
     r.object(root, "", {"format", "version", "city", "world", "time_of_day", "time", "fps", "ocean", "wind", "destruction", "cameras",
-                        "lens_flares", "probes"});
+                        "lens_flares", "probes", "exposure"});
     const Json& f = r.required(root, "", "format", "a scene starts with \"format\": \"dawnforge.scene\"");
     if (f != kFormat) r.fail(format("\"format\" is {}, expected \"{}\"", shown(f), kFormat));
     const Json& v = r.required(root, "", "version", "expected \"version\": 1");
@@ -236,6 +252,7 @@ SceneFile parseSceneJson(const std::string& json, const std::filesystem::path& f
     if (root.contains("wind")) scene.wind = readWind(r, root["wind"]);
     if (root.contains("lens_flares")) scene.lensFlares = r.boolean(root["lens_flares"], "lens_flares");
     if (root.contains("probes")) scene.probes = readProbes(r, root["probes"]);
+    if (root.contains("exposure")) scene.exposure = readExposure(r, root["exposure"]);
     if (root.contains("destruction")) {
         const Json& list = array(r, root["destruction"], "destruction", "{\"vat\": ..., \"name\": ...} objects");
         for (std::size_t i = 0; i < list.size(); ++i)
@@ -300,7 +317,8 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
     if (scene.ocean)
         j["ocean"] = {{"level", scene.ocean->level},
                       {"grid", Json::array({scene.ocean->columns, scene.ocean->rows})},
-                      {"shore_depth", scene.ocean->shoreDepth}};
+                      {"shore_depth", scene.ocean->shoreDepth},
+                      {"ripples", scene.ocean->ripples}};
     j["wind"] = {{"direction", vec(scene.wind.direction)}, {"speed", scene.wind.speed}};
     j["destruction"] = Json::array();
     for (const DestructionInstance& d : scene.destruction) {
@@ -321,6 +339,9 @@ std::string sceneFileJson(const SceneFile& scene, const std::filesystem::path& r
                    {"anti_leak", scene.probes.antiLeak},
                    {"multi_bounce", scene.probes.multiBounce},
                    {"show", scene.probes.show}};
+    const ExposureSettings& e = scene.exposure;
+    j["exposure"] = {{"key", e.key}, {"night_stops", e.nightStops}, {"min", e.min}, {"max", e.max}, {"night_max", e.nightMax}, {"speed", e.speed}};
+    if (e.fixed) j["exposure"]["fixed"] = *e.fixed;
     return j.dump(2) + "\n";
 }
 

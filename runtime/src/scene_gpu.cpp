@@ -443,6 +443,7 @@ std::size_t SceneGpu::drawOcean(FrameStats& stats) {
     std::vector<float> rows(grid.rowNdcY.begin(), grid.rowNdcY.end());
     glNamedBufferSubData(oceanRows_.id(), 0, GLsizeiptr(rows.size() * sizeof(float)), rows.data());
     glUseProgram(ocean_.id());
+    glUniform1f(0, oceanSettings_.ripples ? 1.0f : 0.0f);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, oceanRows_.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, 2, oceanUbo_.id());
     glBindTextureUnit(5, waveNoise_.id());

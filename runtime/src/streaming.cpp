@@ -100,7 +100,7 @@ void TileStreamer::work() {
 
 TileStreamer::Result TileStreamer::loadNode(int node) const {
     const TileNode& n = tiles_.nodes[std::size_t(node)];
-    Result r{node, std::nullopt, {}, {}};
+    Result r{node, std::nullopt, {}, {}, {}};
     try {
         // A tile's city folder (its city.glb with its bake, lamps and proxies), or any other GLB
         // as it is (an HLOD node's carries its bake in its vertices).

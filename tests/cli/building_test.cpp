@@ -320,7 +320,7 @@ TEST_F(CliBuilding, SceneSwapsTheBuildingForItsDestructionWithoutAPop) {
     ASSERT_EQ(test::runDawnforge({"--quiet", "vat", path("rs").string(), "-o", path("rv").string(), "--name", "b"}).exitCode, 0);
     const auto num = [](double v) { return std::to_string(v); };
     test::writeText(path("swap.json"),
-                    R"({"format": "dawnforge.scene", "version": 1, "city": "city", "time_of_day": 12, "fps": 30,
+                    R"({"format": "dawnforge.scene", "version": 1, "city": "city", "time_of_day": 12, "fps": 30, "exposure": {"fixed": 1},
                         "destruction": [{"vat": "rv", "name": "b", "start_time": 1.0, "replaces": )" + id() + R"(}],
                         "cameras": [{"name": "near", "position": [)" + num(c.x + 14) + "," + num(c.y + 12) + "," +
                         num(c.z + 22) + "], \"target\": [" + num(c.x) + "," + num(c.y) + "," + num(c.z) + "]}]}");

@@ -783,7 +783,7 @@ TEST(CliRender, WritesThePictureAndItsPassTimes) {
         EXPECT_GE(p["cpu_ms"].get<double>(), 0.0);
     }
     EXPECT_EQ(passes,
-              (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "flares", "tonemap", "readback"}));
+              (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "exposure", "flares", "tonemap", "readback"}));
     EXPECT_FALSE(stats.contains("probes")) << "probes are off by default";
     EXPECT_EQ(stats["ocean_vertices"], 64 * 48);
     EXPECT_GT(stats["triangles"].get<int>(), 1000);

@@ -234,8 +234,49 @@ TEST(Render, OceanWithAShore) {
     EXPECT_EQ(stats.oceanVertices, 96u * 80u);
     std::vector<std::string> names;
     for (const PassTime& p : stats.passes) names.push_back(p.name);
-    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "flares",
+    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "exposure", "flares",
                                                  "tonemap", "readback"}));
+}
+
+// Mean absolute difference of neighbouring pixels' luminance (8-bit) in rows [y0, y1): how much
+// detail a band of the picture shows.
+double pixelDetail(const Image& image, int y0, int y1) {
+    const auto lum = [&](int x, int y) {
+        const std::size_t p = (std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * 4;
+        return 0.2126 * image.rgba[p] + 0.7152 * image.rgba[p + 1] + 0.0722 * image.rgba[p + 2];
+    };
+    double sum = 0.0;
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x + 1 < image.width; ++x, ++n) sum += std::abs(lum(x + 1, y) - lum(x, y)) + std::abs(lum(x, y + 1) - lum(x, y));
+    return sum / n;
+}
+
+// Open sea from a quay 6 m up, looking out under the horizon (row 13 of 120): the nearest rows
+// of the projected grid are metres apart, so their waves alone are a smooth band; the per-pixel
+// ripples (ocean.frag) give them detail, and leave the distant water as it was (no moiré).
+TEST(Render, NearWaterShowsRipplesAndFarWaterStaysCalm) {
+    TempDir dir;
+    Mesh island;
+    addWall(island, {-1, -1}, {1, 1}, -3000.0f, 14);  // a city needs a node; this one is out of sight
+    writeCity(dir / "city", {island});
+    SceneFile scene;
+    scene.cityDir = dir / "city";
+    scene.lensFlares = false;
+    scene.exposure.fixed = 1.0;
+    scene.ocean = OceanSettings{};
+    scene.ocean->level = 0.0;
+    FrameSettings frame = lookingAt({0, 6, 0}, {0, 6 - 100 * std::tan(glm::radians(20.0)), -100}, 12.0, 50.0);
+    frame.time = 2.0;
+    const Image rippled = render(scene, frame);
+    scene.ocean->ripples = false;
+    const Image smooth = render(scene, frame);
+    const auto near = [](const Image& i) { return pixelDetail(i, kSize.y * 3 / 4, kSize.y - 1); };
+    const auto far = [](const Image& i) { return pixelDetail(i, 15, 30); };
+    EXPECT_LT(near(smooth), 0.5) << "without ripples the nearest water is a smooth band";
+    EXPECT_GT(near(rippled), 2.0) << "the nearest water shows ripples";
+    EXPECT_GT(near(rippled), 8.0 * near(smooth));
+    EXPECT_LT(far(rippled), 1.15 * far(smooth)) << "the ripples fade before they alias: " << far(rippled) << " against " << far(smooth);
 }
 
 TEST(Render, SameSceneGivesTheSamePixels) {

@@ -92,8 +92,10 @@ TEST(Streaming, TheStreamedPictureIsCloseToFullDetail) {
     const glm::ivec2 size{320, 180};
     // 250 m out: the HLOD's 2.2 m is 6 px at 180 px high, under the default 16.
     const glm::dvec3 eye{128.0, 120.0, 230.0};
-    Renderer streamed(worldScene(smallWorld()), options(size));
-    Renderer full(worldScene(smallWorld()), options(size, 0.01));
+    SceneFile scene = worldScene(smallWorld());
+    scene.exposure.fixed = 1.0;  // the same exposure for both: the pictures differ only by what is drawn
+    Renderer streamed(scene, options(size));
+    Renderer full(scene, options(size, 0.01));
     runtime::FrameStats s, f;
     const exporters::Image a = draw(streamed, eye, kAerialTarget, &s), b = draw(full, eye, kAerialTarget, &f);
     EXPECT_EQ(s.streaming.drawn, 1);

@@ -10,9 +10,10 @@
 //   destruction               VAT playback of each destruction instance
 //   sky                       sky and sun where nothing was drawn
 //   ocean                     projected-grid Gerstner water, blended, depth writes on
+//   exposure                  the frame's log-average luminance and exposure (compute; ExposureSettings)
 //   flares                    lens flares of the sun and the street lamps: one instanced draw, added to
 //                             the HDR colour; visibility from the depth texture in the vertex shader
-//   tonemap                   HDR → 8-bit sRGB (ACES fit)
+//   tonemap                   HDR × exposure → 8-bit sRGB (ACES fit)
 //   readback                  pixels back to the CPU (headless only)
 // A GL context (GlContext) must be current on the calling thread for the whole life.
 #include <dawnforge/exporters/image.hpp>
@@ -38,6 +39,7 @@ struct FrameSettings {
     glm::dvec3 cameraVelocity{0.0};  // m/s: a world prefetches where the camera will be in a second
     double time = 0.0;       // seconds since the scene started (destruction, waves)
     double timeOfDay = 15.0; // hours
+    double adaptSeconds = 0.0;  // `view`: seconds since the last frame, how far auto exposure moves; 0: it converges on this frame
 };
 
 struct PassTime {
@@ -88,6 +90,8 @@ struct FrameStats {
     std::size_t triangles = 0;
     std::size_t oceanVertices = 0;
     std::size_t lod0Buildings = 0, lod1Buildings = 0, culledBuildings = 0;
+    double exposure = 0.0;        // the multiplier the frame was shown with
+    double sceneLuminance = 0.0;  // the HDR frame's centre-weighted log-average luminance
     std::string probePreset = "off";
     ProbeStats probes;
     StreamingStats streaming;

@@ -9,7 +9,8 @@
 //     "fps": 30,                                         > 0; `render --frame F` draws time F / fps; default 30
 //     "ocean": { "level": -0.8,                          sea level (m); default -0.8
 //                "grid": [192, 160],                     projected grid columns, rows: 2..1024; default [192, 160]
-//                "shore_depth": 4.0 },                   depth (m, > 0) at which waves reach full amplitude; default 4
+//                "shore_depth": 4.0,                     depth (m, > 0) at which waves reach full amplitude; default 4
+//                "ripples": true },                      per-pixel ripples from the noise texture near the camera; default true
 //     "wind": { "direction": [1, 0, 0.3],                where the wind blows to; only x and z count; default [1, 0, 0.3]
 //               "speed": 4 },                            m/s in [0, 60]: how far trees bend; default 4
 //     "destruction": [ { "vat": "vat",                   required: a folder written by `dawnforge vat`
@@ -30,7 +31,18 @@
 //                 "face_size": 64,                       capture pixels per cube face, 8..256; default 64
 //                 "anti_leak": true,                     IN/OUT tags: indoor surfaces read indoor probes only; default true
 //                 "multi_bounce": true,                  probes lit by the probes already captured; default true
-//                 "show": false }                        the debug view: a sphere at each probe, lit by it; default false
+//                 "show": false },                       the debug view: a sphere at each probe, lit by it; default false
+//     "exposure": { "key": 0.18,                         auto exposure: the scene's log-average luminance is brought
+//                                                        to this (> 0); default 0.18
+//                   "night_stops": -3,                   the key's change at night, in stops, [-10, 10] (night keeps
+//                                                        looking like night); default -3
+//                   "min": 0.0625, "max": 256,           the exposure's range (multipliers of the HDR colour,
+//                                                        0 < min <= max); default 1/16 and 256 (a room by day)
+//                   "night_max": 8,                      the top of the range at night, in [min, max]: an unlit
+//                                                        street at night stays dark; default 8
+//                   "speed": 1.5,                        `view`: adaptation per second (> 0; 1.5 closes 78 % of
+//                                                        the gap, in stops, in a second); `render` converges at once
+//                   "fixed": 1.2 }                       pins the exposure to this multiplier (> 0); default none (auto)
 //   }
 //
 // Every key but "format" and "version" is optional; "ocean" absent or null means no ocean.
@@ -58,6 +70,7 @@ struct OceanSettings {
     int columns = 192;
     int rows = 160;
     double shoreDepth = 4.0;  // waves reach full amplitude this deep
+    bool ripples = true;      // per-pixel normals from the noise texture (ocean.frag)
 };
 
 // What sways the city's trees (wind.glsl).
@@ -73,6 +86,16 @@ struct ProbeSettings {
     bool antiLeak = true;
     bool multiBounce = true;
     bool show = false;  // the debug view
+};
+
+// The frame's exposure (exposure.comp): automatic unless pinned.
+struct ExposureSettings {
+    double key = 0.18;             // the scene's log-average luminance is exposed to this by day
+    double nightStops = -3.0;      // and to key * 2^nightStops at night (runtime::Lighting::night)
+    double min = 0.0625, max = 256.0;  // the automatic exposure's range: a room by day needs about 100
+    double nightMax = 8.0;             // the range's top at night (between, log-linear in the night factor)
+    double speed = 1.5;           // `view`: 1 - exp(-speed * dt) of the way in stops each frame
+    std::optional<double> fixed;  // pinned (scene key or --exposure)
 };
 
 struct DestructionInstance {
@@ -97,6 +120,7 @@ struct SceneFile {
     std::vector<SceneCamera> cameras;              // the first is the default
     bool lensFlares = true;                        // the sun's and the street lamps' lens flares
     ProbeSettings probes;
+    ExposureSettings exposure;
 };
 
 // Reads and parses `file`, then checks that the city folder holds city.glb and that each
