@@ -2,6 +2,7 @@
 // destruction, the scene and a picture), each stage written with the same writers as its own command.
 #include "commands.hpp"
 #include "folders.hpp"
+#include "report.hpp"
 
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/format.hpp>
@@ -21,10 +22,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdio>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <type_traits>
 
 namespace dawnforge::cli {
 
@@ -201,18 +204,62 @@ void renderDemo(const DemoOptions& options, const procgen::CityBuilding& buildin
                 sceneFile.string().c_str());
 }
 
+// Runs one stage and records it, with its wall time, for the report.
+template <typename Stage>
+auto timed(std::vector<ReportStage>& stages, ReportStage stage, Stage&& run) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto record = [&] {
+        stage.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stages.push_back(std::move(stage));
+    };
+    if constexpr (std::is_void_v<decltype(run())>) {
+        run();
+        record();
+    } else {
+        auto result = run();
+        record();
+        return result;
+    }
+}
+
+// DIR/report.html: the pictures, the stages, the bake of the knocked-down building, its
+// simulation and its pieces.
+void writeDemoReport(const DemoOptions& options, int building, std::vector<ReportStage> stages) {
+    const std::filesystem::path& dir = options.outputDir;
+    ReportInputs report;
+    report.title = "dawnforge demo: " + dir.filename().string();
+    report.pictures = {{"the harbour at 17:30, the building coming down", dir / "render.png"},
+                       {"the promenade at 22:00", dir / "render_night.png"},
+                       {"into the sun at 17:42", dir / "render_sunset.png"}};
+    report.stages = std::move(stages);
+    report.bakeDir = dir / "city" / "bake";
+    report.bakeBuilding = building;
+    report.fractureDir = dir / "fracture";
+    report.simDir = dir / "sim";
+    std::printf("wrote %s\n", writeReport(report, dir).string().c_str());
+}
+
 int runDemo(const DemoOptions& options, const CommonOptions& common) {
     ensureOutputDirectory(options.outputDir);
-    const procgen::CityPlan plan = demoCity(options, common);
     const std::filesystem::path cityDir = options.outputDir / "city";
-    bakeCityFolder(cityDir, options.bake, common);
+    std::vector<ReportStage> stages;
+    const procgen::CityPlan plan = timed(stages, {"city", "a 320 × 280 m district", {"city/city.glb", "city/city.json", "city/trees"}},
+                                         [&] { return demoCity(options, common); });
+    timed(stages, {"bake", "the district's lighting: a lightmap per building and ground tile", {"city/bake"}},
+          [&] { bakeCityFolder(cityDir, options.bake, common); });
     const int id = options.building ? *options.building : quayBuilding(cityDir, plan);
     const procgen::CityBuilding building = procgen::loadCityBuilding(cityDir, id);
-    const sim::FractureResult pieces = fractureBuilding(options, building);
+    const sim::FractureResult pieces = timed(stages, {"fracture", "", {"fracture"}}, [&] { return fractureBuilding(options, building); });
+    stages.back().made = format("{} in {} pieces with {} bonds", building.name, pieces.pieces.size(), pieces.bonds.size());
     const std::vector<sim::RigidPiece> rigid = sim::rigidPieces(pieces);
-    const sim::SimulationResult motion = simulateBuilding(options, building, pieces, rigid, common);
-    bakeVats(options, rigid, motion);
-    renderDemo(options, building);
+    const sim::SimulationResult motion =
+        timed(stages, {"simulate", "", {"sim"}}, [&] { return simulateBuilding(options, building, pieces, rigid, common); });
+    stages.back().made = format("{} frames at {} fps; {} of {} bonds broke", motion.frames, motion.fps, motion.brokenBonds, motion.bonds);
+    timed(stages, {"vat", "VATs of the destruction in three presets: native, unreal, unity", {"vat"}},
+          [&] { bakeVats(options, rigid, motion); });
+    timed(stages, {"render", "scene.json and three 1280 × 720 pictures", {"scene.json", "render.png", "render_night.png", "render_sunset.png"}},
+          [&] { renderDemo(options, building); });
+    writeDemoReport(options, id, std::move(stages));
     return 0;
 }
 

@@ -1,5 +1,6 @@
 // dawnforge world plan | build | job: a world built tile by tile (ARCHITECTURE.md, section 9).
 #include "commands.hpp"
+#include "world_report.hpp"
 
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
@@ -107,6 +108,7 @@ int runBuild(WorldOptions& o, const CommonOptions& common) {
                          (o.dir / "logs").string().c_str());
         failures += s.failed.size();
     }
+    std::printf("wrote %s\n", writeWorldReport(o.dir, report).string().c_str());  // what was built, failed or not
     if (failures > 0) {
         std::fprintf(stderr, "dawnforge: error: world build: %zu jobs failed; what finished is kept: run the same command again to redo the rest\n",
                      failures);

@@ -46,6 +46,37 @@ void expectBadInput(const std::vector<std::string>& args, const std::string& men
 // The demo's bake at its coarsest: seconds instead of a minute (the bake's own tests check quality).
 const std::string kQuickBake[8] = {"--bake-texel", "1", "--bake-interior-texel", "2", "--bake-samples", "4", "--bake-bounces", "1"};
 
+std::size_t occurrences(const std::string& text, const std::string& part) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+    return n;
+}
+
+// The text of `html` from `from` up to `to` (or its end).
+std::string between(const std::string& html, const std::string& from, const std::string& to) {
+    const std::size_t a = html.find(from);
+    if (a == std::string::npos) return {};
+    const std::size_t b = html.find(to, a);
+    return html.substr(a, b == std::string::npos ? std::string::npos : b - a);
+}
+
+// The demo's report.html as a reader sees it: Debian's chromium, headless
+// (tools/browser-check), loads it without a console error, a page error or any request beyond
+// its own data: URIs, every image decodes and every plot draws. Without node, chromium or the
+// npm package the test is reported as skipped with the reason.
+void expectReportOpensInChromium(const std::filesystem::path& report, int images, int plots) {
+    const std::filesystem::path check(DAWNFORGE_BROWSER_CHECK);
+    if (std::string(DAWNFORGE_NODE).empty() || std::string(DAWNFORGE_CHROMIUM).empty())
+        GTEST_SKIP() << "node or chromium was not found when configuring: report.html was not opened";
+    if (!std::filesystem::exists(check.parent_path() / "node_modules/puppeteer-core/package.json"))
+        GTEST_SKIP() << "tools/browser-check is not installed (npm ci there): report.html was not opened";
+    const RunResult r = test::run(DAWNFORGE_NODE, {check.string(), report.string(), "--browser", DAWNFORGE_CHROMIUM, "--min-images",
+                                                   std::to_string(images), "--min-svgs", std::to_string(plots), "--no-scripts"});
+    EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("\"ok\":true"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(format("\"images\":{},", images)), std::string::npos) << r.out;
+}
+
 }  // namespace
 
 TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
@@ -265,6 +296,17 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
         mean[name] = sum / double(image.rgba.size());
     }
     EXPECT_LT(mean["render_night.png"], 0.6 * mean["render.png"]);
+    // report.html: the three pictures and the bake's four channels inlined, the energy, motion
+    // and piece-size plots, a row per stage, every part available, nothing fetched from elsewhere.
+    const std::string report = test::readText(dir / "a" / "report.html");
+    EXPECT_NE(a.out.find("report.html"), std::string::npos);
+    EXPECT_EQ(occurrences(report, "<img src=\"data:image/png;base64,"), 7u);
+    EXPECT_EQ(occurrences(report, "<svg "), 3u);
+    EXPECT_EQ(occurrences(report, "not available"), 0u) << between(report, "not available", "</p>");
+    for (const char* stage : {"city", "bake", "fracture", "simulate", "vat", "render"})
+        EXPECT_NE(report.find(std::string("<tr><td>") + stage + "</td>"), std::string::npos) << stage;
+    EXPECT_EQ(occurrences(report, "http"), occurrences(report, "xmlns=\"http://www.w3.org/2000/svg\""));
+    EXPECT_EQ(occurrences(report, "<script"), 0u);
     if (DAWNFORGE_SANITIZED) return;
     const RunResult b = demo("b", true);
     ASSERT_EQ(b.exitCode, 0) << b.err;
@@ -272,6 +314,12 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
     for (const char* name : {"render.png", "render_night.png", "render_sunset.png"})
         EXPECT_EQ(test::readBytes(dir / "a" / name), test::readBytes(dir / "b" / name)) << name;
     EXPECT_EQ(test::readText(dir / "a" / "scene.json"), test::readText(dir / "b" / "scene.json"));
+    // The report differs run to run in its times alone: its pictures, bake, simulation and fracture are the same.
+    const std::string reportB = test::readText(dir / "b" / "report.html");
+    EXPECT_EQ(between(report, "<h2 id=\"pictures\">", "<h2 id=\"stages\">"), between(reportB, "<h2 id=\"pictures\">", "<h2 id=\"stages\">"));
+    EXPECT_EQ(between(report, "<h2 id=\"bake\">", "</body>"), between(reportB, "<h2 id=\"bake\">", "</body>"));
+    EXPECT_GT(between(report, "<h2 id=\"bake\">", "</body>").size(), 10000u);
+    expectReportOpensInChromium(dir / "a" / "report.html", 7, 3);
 }
 
 TEST(Cli, DemoBadOptionsExit2) {

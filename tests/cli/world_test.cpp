@@ -43,12 +43,12 @@ std::vector<std::string> smallWorld() {
     return a;
 }
 
-// Every file of a world folder but its logs, with its bytes.
+// Every file of a world folder but its logs and report.html (both hold times), with its bytes.
 std::map<std::string, std::vector<unsigned char>> worldFiles(const fs::path& dir) {
     std::map<std::string, std::vector<unsigned char>> files;
     for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
         const std::string rel = fs::relative(e.path(), dir).generic_string();
-        if (e.is_regular_file() && !rel.starts_with("logs/")) files[rel] = test::readBytes(e.path());
+        if (e.is_regular_file() && !rel.starts_with("logs/") && rel != "report.html") files[rel] = test::readBytes(e.path());
     }
     return files;
 }
@@ -210,6 +210,16 @@ TEST(CliWorld, DestroysThePlannedBuildingsInTheirTiles) {
             EXPECT_TRUE(fs::exists(out / "vat" / preset / (std::string(name) + file))) << preset << file;
     const nlohmann::json record = readJson(dir / "w" / "jobs" / "destroy" / "0.json");
     EXPECT_GT(record["files"].size(), 15u);
+    // report.html: a row per stage, the destroyed building's plots; no pictures and, without the
+    // bake stage, no lightmap: those two parts say so.
+    const std::string report = test::readText(dir / "w" / "report.html");
+    for (const std::string& part : std::vector<std::string>{"<tr><td>city</td>", "<tr><td>destroy</td>",
+                                                            "not available: this build renders no pictures", "not available: no bake",
+                                                            std::string("From destroy/") + name + "/sim/"})
+        EXPECT_TRUE(test::contains(report, part)) << part;
+    std::size_t plots = 0;
+    for (std::size_t at = report.find("<svg "); at != std::string::npos; at = report.find("<svg ", at + 1)) ++plots;
+    EXPECT_EQ(plots, 3u);  // energy, pieces in motion, piece sizes
     EXPECT_TRUE(test::contains(build(dir / "w", {"--stages", "city,destroy"}).out, "1 already done, 0 run"));
 }
 
