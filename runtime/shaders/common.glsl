@@ -35,9 +35,13 @@ vec3 sunDisk(vec3 dir) {
 
 layout(binding = 7) uniform sampler2DShadow shadowMap;
 
-// The shadow map's coordinates of a point lifted 0.15 m along its normal; z > 1: outside the map.
+// The shadow map's coordinates of a point lifted along its normal by 0.15 m or one shadow texel,
+// whichever is more: a texel of a large scene's map spans more depth on a sloped surface than the
+// fixed bias covers (acne: stripes that alias into rings far off); z > 1: outside the map.
 vec3 shadowCoord(vec3 worldPos, vec3 normal) {
-    vec4 p = frame.lightViewProj * vec4(worldPos + normal * 0.15, 1.0);
+    mat4 m = frame.lightViewProj;
+    float texelMetres = 2.0 / (length(vec3(m[0][0], m[1][0], m[2][0])) * float(textureSize(shadowMap, 0).x));
+    vec4 p = m * vec4(worldPos + normal * max(0.15, texelMetres), 1.0);
     vec3 q = p.xyz / p.w * 0.5 + 0.5;
     bool outside = any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))) || q.z > 1.0;
     return outside ? vec3(0.5, 0.5, 2.0) : vec3(q.xy, q.z - frame.sunColor.w);

@@ -522,6 +522,15 @@ AtlasImage generateAtlas() {
         }
     });
 
+    // Each tile's mean in linear light, summed in a fixed order.
+    const SrgbTables& srgb = srgbTables();
+    for (std::size_t k = 0; k < blocks.size(); ++k) {
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (std::size_t t = 0; t < tiles[k].size(); ++t) sum[t % 3] += srgb.toLinear[tiles[k][t]];
+        const double n = double(tiles[k].size() / 3) * 65535.0;
+        image.blockMean[encodeBlock(blocks[k].block)] = glm::vec4(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n), 1.0f);
+    }
+
     // 2. Fill every cell, interior and padding, from the tile at the wrapped position.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size()), [&](const tbb::blocked_range<std::size_t>& range) {
         for (std::size_t k = range.begin(); k < range.end(); ++k) {

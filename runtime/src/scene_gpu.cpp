@@ -66,6 +66,7 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize, const StreamingOp
     for (int l = 0; l < kAtlasLevels; ++l)
         glTextureSubImage2D(atlas_.id(), l, 0, 0, atlas.size >> l, atlas.size >> l, GL_RGBA, GL_UNSIGNED_BYTE,
                             atlas.rgba[std::size_t(l)].data());
+    atlasMeans_ = gl::makeBuffer(atlas.blockMean.data(), sizeof(atlas.blockMean));
 
     const InteriorTextures interiors = generateInteriors(128, 8);  // 128² per room style: windows are small on screen
     roomStyles_ = interiors.styles;
@@ -347,6 +348,7 @@ glm::mat4 SceneGpu::lightViewProj(glm::dvec3 sunDirection) {
 
 void SceneGpu::bindShared() {
     glBindBufferBase(GL_UNIFORM_BUFFER, 1, materialsUbo_.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, 4, atlasMeans_.id());
     glBindTextureUnit(0, atlas_.id());
     glBindTextureUnit(1, rooms_.id());
     glBindTextureUnit(2, roomMiddle_.id());

@@ -104,6 +104,7 @@ private:
     glm::dvec3 origin_{0.0};
     gl::Program vat_, vatDepth_, ocean_;
     gl::Texture atlas_, rooms_, roomMiddle_;
+    gl::Buffer atlasMeans_;  // AtlasMeans (atlas.glsl): each block's mean colour, by code
     gl::Texture noLightmaps_;    // a 1×1 black layer for what has no bake (never read: layer -1)
     bool baked_ = false, bakedOverlook_ = false;
     int roomStyles_ = 1;

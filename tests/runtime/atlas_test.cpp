@@ -330,3 +330,28 @@ TEST(AtlasImageTest, IsIdenticalOnEveryRunAndThreadCount) {
         EXPECT_TRUE(first.rgba[level] == serial.rgba[level]) << "level " << level;
     }
 }
+
+// Each laid-out block's mean (what atlas.glsl fades to beyond level 4) is the mean of its
+// interior's level-0 texels in linear light, decoded here with the sRGB formula; every other
+// code is zero.
+TEST(AtlasImageTest, BlockMeansAreTheirInteriorsLinearMeans) {
+    const AtlasImage& image = atlas();
+    std::vector<bool> used(kAtlasCodes, false);
+    const auto linear = [](std::uint8_t v) { const double s = v / 255.0; return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4); };
+    for (const MaterialBlock& m : materialBlocks()) {
+        const std::uint32_t code = encodeBlock(m.block);
+        used[code] = true;
+        const Texels t = texels(blockInterior(m.block));
+        glm::dvec3 sum(0.0);
+        for (int y = t.min.y; y < t.max.y; ++y)
+            for (int x = t.min.x; x < t.max.x; ++x)
+                for (int c = 0; c < 3; ++c) sum[c] += linear(texel(image, 0, x, y)[c]);
+        const glm::dvec3 mean = sum / double((t.max.x - t.min.x) * (t.max.y - t.min.y));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(image.blockMean[code][c], mean[c], 2e-4) << "material " << m.material << " variant " << m.variant;
+        EXPECT_EQ(image.blockMean[code].a, 1.0f);
+    }
+    for (int code = 0; code < kAtlasCodes; ++code)
+        if (!used[std::size_t(code)]) {
+            EXPECT_EQ(image.blockMean[std::size_t(code)], glm::vec4(0.0f)) << "code " << code;
+        }
+}

@@ -167,7 +167,9 @@ TEST_F(Exposure, ViewAdaptsStepByStepAndRenderConvergesDeterministically) {
         const double e = renderer.render(room).exposure;
         EXPECT_GT(e, last) << "frame " << i;
         EXPECT_LE(e, converged.exposure * 1.0001) << "frame " << i;
-        if (i == 0) EXPECT_LT(e, 0.5 * converged.exposure) << "the first step is small";
+        if (i == 0) {
+            EXPECT_LT(e, 0.5 * converged.exposure) << "the first step is small";
+        }
         last = e;
     }
     EXPECT_NEAR(std::log2(last), std::log2(converged.exposure), 0.1) << "1.5 per second: 99 % of the way in 3 s";

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
 
 namespace dawnforge::runtime {
 
@@ -70,13 +71,18 @@ struct TexelBox {
 // `maxLevel` exists so that tests can show what a longer mip chain would read.
 TexelBox sampleFootprint(glm::dvec2 uv, double lod, int maxLevel = kAtlasLevels - 1);
 
+inline constexpr int kAtlasCodes = 128;  // block codes (encodeBlock) are 7 bits
+
 // The procedural atlas, sRGB 8-bit (upload as GL_SRGB8_ALPHA8), alpha 255 everywhere.
 // Level l is (size >> l)² RGBA8, row 0 first. Levels 1..4 are 2×2 box averages of the level
 // above in LINEAR light (what glGenerateMipmap does for sRGB textures), alpha averaged as is.
-// Byte-identical on every run and any thread count.
+// blockMean[code] is each block's tile averaged in linear light (rgb; a = 1; unused codes 0):
+// what the tile looks like where a pixel covers many of its repeats, which atlas.glsl fades to
+// beyond the last level. Byte-identical on every run and any thread count.
 struct AtlasImage {
     int size = kAtlasSize;
     std::array<std::vector<std::uint8_t>, kAtlasLevels> rgba;
+    std::array<glm::vec4, kAtlasCodes> blockMean{};
 };
 AtlasImage generateAtlas();
 
