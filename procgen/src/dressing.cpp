@@ -59,14 +59,15 @@ void addTube(Mesh& m, double length, double r0, double r1, std::uint8_t material
                                            base + row + i + 1});
 }
 
-// A square card centred at c spanning ±half along u and v (unit, perpendicular).
-void addCard(Mesh& m, glm::vec3 c, glm::vec3 u, glm::vec3 v, float half, std::uint8_t material) {
+// A square card centred at c spanning ±half along u and v (unit, perpendicular); uv in metres,
+// or 0..1 across the card (`unitUv`: a leaf card, whose leaf picture the runtime cuts out).
+void addCard(Mesh& m, glm::vec3 c, glm::vec3 u, glm::vec3 v, float half, std::uint8_t material, bool unitUv = false) {
     const auto base = std::uint32_t(m.positions.size());
     const glm::vec3 n = glm::normalize(glm::cross(u, v));
     const glm::vec2 uvs[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     const glm::vec3 corners[4] = {c - half * u - half * v, c + half * u - half * v, c + half * u + half * v,
                                   c - half * u + half * v};
-    for (int k = 0; k < 4; ++k) vertex(m, corners[k], n, 2.0f * half * uvs[k], material);
+    for (int k = 0; k < 4; ++k) vertex(m, corners[k], n, (unitUv ? 1.0f : 2.0f * half) * uvs[k], material);
     m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
 }
 
@@ -75,8 +76,8 @@ void addLeaves(Mesh& m, float x, float half, double turn) {
     const glm::vec3 ax(1.0f, 0.0f, 0.0f);
     const glm::vec3 a(0.0f, float(std::cos(turn)), float(std::sin(turn)));
     const glm::vec3 b(0.0f, -a.z, a.y);
-    addCard(m, {x, 0.0f, 0.0f}, ax, a, half, kGround);
-    addCard(m, {x, 0.0f, 0.0f}, ax, b, half, kGround);
+    addCard(m, {x, 0.0f, 0.0f}, ax, a, half, kGround, true);
+    addCard(m, {x, 0.0f, 0.0f}, ax, b, half, kGround, true);
 }
 
 // A child's frame: at `along` on its parent's axis, rolled `roll` about that axis, then

@@ -11,6 +11,9 @@ layout(binding = 0) uniform sampler2D atlas;
 layout(binding = 1) uniform sampler2D rooms;
 layout(binding = 2) uniform sampler2D roomMiddle;
 layout(binding = 8) uniform sampler2DArray lightmaps;
+#ifdef TREE
+layout(binding = 16) uniform sampler2D leaves;  // leaves.hpp: a tree's kGround cards are leaf cards, uv 0..1
+#endif
 layout(location = 4) uniform int roomStyles;
 layout(location = 0) out vec4 outColor;
 
@@ -57,6 +60,13 @@ void main() {
         color = mix(behind, reflection, fresnel);
     } else {
         vec3 albedo = sampleAtlas(atlas, vRect, vUv0, vTile).rgb;
+#ifdef TREE
+        vec4 leaf = texture(leaves, vUv0);  // sampled in uniform control flow, used on leaf cards
+        if (vMaterial == kGround) {
+            if (leaf.a < 0.5) discard;
+            albedo = leaf.rgb;
+        }
+#endif
         color = albedo * (baked ? bakedDiffuseLight(vWorld, n, bake) : diffuseLight(vWorld, n));
     }
     outColor = vec4(fog(color, V, distance), 1.0);

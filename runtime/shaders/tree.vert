@@ -16,6 +16,8 @@ layout(location = 7) in uint aBuilding;   // per instance: 0xffff (no building)
 layout(location = 10) in mat4 aModel;     // per instance: tree space → world (turn and uniform scale)
 #ifdef DEPTH_PASS
 layout(location = 0) uniform mat4 depthViewProj;
+out vec2 vLeafUv;   // depth.frag cuts the leaf cards out as surface.frag does
+flat out uint vLeaf;
 #endif
 layout(location = 5) uniform vec4 wind;   // xyz: unit, level, where it blows to (world); w: speed (m/s)
 layout(location = 6) uniform float windTime;
@@ -28,6 +30,8 @@ void main() {
     windBend(p, n, aUv1, windDir, wind.w, windTime, dot(aModel[3].xz, vec2(0.37, 0.21)));
     vec3 world = (aModel * vec4(p, 1.0)).xyz + modelOffset;
 #ifdef DEPTH_PASS
+    vLeafUv = aUv0;
+    vLeaf = (aMaterial & 15u) == 13u ? 1u : 0u;  // kGround: a leaf card
     gl_Position = depthViewProj * vec4(world, 1.0);
 #else
     vWorld = world;

@@ -3,6 +3,8 @@
 #include "city_gpu.hpp"
 #include "static_vertex.hpp"
 
+#include <dawnforge/runtime/leaves.hpp>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
@@ -160,8 +162,12 @@ TreeCpu prepareTrees(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3
 }
 
 void TreePrograms::make() {
-    surface = gl::makeProgram("tree.vert", "surface.frag");
-    depth = gl::makeProgram("tree.vert", "depth.frag", {"DEPTH_PASS"});
+    surface = gl::makeProgram("tree.vert", "surface.frag", {"TREE"});
+    depth = gl::makeProgram("tree.vert", "depth.frag", {"DEPTH_PASS", "TREE"});
+    const LeafImage image = makeLeafImage();
+    leaves = gl::makeTexture2D(GL_SRGB8_ALPHA8, kLeafSize, kLeafSize, kLeafLevels, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
+    for (int l = 0; l < kLeafLevels; ++l)
+        glTextureSubImage2D(leaves.id(), l, 0, 0, kLeafSize >> l, kLeafSize >> l, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba[std::size_t(l)].data());
 }
 
 void TreeGpu::upload(const TreeCpu& cpu) {
@@ -206,6 +212,7 @@ std::size_t TreeGpu::draw(const TreePrograms& programs, const WindSettings& wind
     glUniform4f(5, d.x, d.y, d.z, float(wind.speed));
     glUniform1f(6, float(time));
     glUniform3f(8, offset.x, offset.y, offset.z);
+    glBindTextureUnit(kLeafUnit, programs.leaves.id());
     glBindVertexArray(vao_.id());
     std::size_t draws = 0;
     for (std::size_t k = 0; k < species_.size(); ++k) {

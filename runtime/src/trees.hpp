@@ -22,6 +22,7 @@ namespace dawnforge::runtime {
 
 // Texture units the wind reads (wind.glsl).
 inline constexpr GLuint kPivotUnit = 9, kAxisUnit = 10;
+inline constexpr GLuint kLeafUnit = 16;  // the leaf picture (leaves.hpp): surface.frag and depth.frag with TREE
 
 struct PivotTextures {
     gl::Texture pivots, axes;  // RGBA32F: pivot (m) and parent index; X axis and extent (m)
@@ -56,6 +57,7 @@ TreeCpu prepareTrees(std::vector<MeshNode>& nodes, glm::uvec4 blocks, glm::dvec3
 
 struct TreePrograms {
     gl::Program surface, depth;
+    gl::Texture leaves;  // the leaf cards' picture, shared by every tree
     void make();
 };
 
