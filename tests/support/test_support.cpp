@@ -105,6 +105,11 @@ const fs::path& streamWorld() {
         fs::create_directories(d.parent_path());
         const int fd = ::open((d.string() + ".lock").c_str(), O_CREAT | O_RDWR, 0644);
         if (fd < 0 || ::flock(fd, LOCK_EX) != 0) throw std::runtime_error("cannot lock " + d.string() + ".lock");
+        // A world an older executable built is built again: a rerun of `world build` would keep
+        // its tiles, and the goldens would show what the old generator made.
+        std::error_code ec;
+        if (fs::exists(d / "tileset.json", ec) && fs::last_write_time(DAWNFORGE_EXE, ec) > fs::last_write_time(d / "tileset.json", ec))
+            fs::remove_all(d, ec);
         const RunResult p = runDawnforge({"-q", "world", "plan", d.string(), "--size", "256x256", "--tile-size", "128", "--seed", "5",
                                           "--bake-texel", "2", "--bake-interior-texel", "4", "--bake-ground-texel", "8",
                                           "--bake-samples", "2", "--bake-sun-samples", "2", "--bake-bounces", "1"});
