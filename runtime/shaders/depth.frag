@@ -1,13 +1,13 @@
 #version 450 core
-// Depth-only passes (shadow map, overlook depth). Trees (TREE): leaf cards are cut out where the
-// leaf picture's alpha is below the cutoff, as in the colour pass.
+// Depth-only passes (shadow map, overlook depth). Trees (TREE): leaf cards are cut out as in the
+// colour pass (leaves.glsl).
 #ifdef TREE
-layout(binding = 16) uniform sampler2D leaves;
+#include "leaves.glsl"
 in vec2 vLeafUv;
 flat in uint vLeaf;
 #endif
 void main() {
 #ifdef TREE
-    if (vLeaf != 0u && texture(leaves, vLeafUv).a < 0.5) discard;
+    if (vLeaf != 0u && leafCut(texture(leaves, vLeafUv).a)) discard;
 #endif
 }

@@ -12,7 +12,7 @@ layout(binding = 1) uniform sampler2D rooms;
 layout(binding = 2) uniform sampler2D roomMiddle;
 layout(binding = 8) uniform sampler2DArray lightmaps;
 #ifdef TREE
-layout(binding = 16) uniform sampler2D leaves;  // leaves.hpp: a tree's kGround cards are leaf cards, uv 0..1
+#include "leaves.glsl"  // a tree's kGround cards are leaf cards, uv 0..1
 #endif
 layout(location = 4) uniform int roomStyles;
 layout(location = 0) out vec4 outColor;
@@ -63,7 +63,7 @@ void main() {
 #ifdef TREE
         vec4 leaf = texture(leaves, vUv0);  // sampled in uniform control flow, used on leaf cards
         if (vMaterial == kGround) {
-            if (leaf.a < 0.5) discard;
+            if (leafCut(leaf.a)) discard;
             albedo = leaf.rgb;
         }
 #endif

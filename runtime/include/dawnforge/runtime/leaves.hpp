@@ -1,7 +1,8 @@
 #pragma once
 // The leaf picture of the trees' leaf cards (ARCHITECTURE.md 7, Trees and wind): a cluster of
 // leaves on a transparent ground, 0..1 across a card. The tree shaders cut the card out where
-// alpha < 0.5, in the colour pass and in the shadow pass alike. Made at load, deterministic.
+// alpha is below about 0.5 (leaves.glsl dithers the cutoff by ±0.15), in the colour pass and in
+// the shadow pass alike. Made at load, deterministic.
 #include <array>
 #include <cstdint>
 #include <vector>
