@@ -103,7 +103,7 @@ Motion readMotion(const std::filesystem::path& simDir, const std::filesystem::pa
     if (bytes.size() != transforms.size() * sizeof(float))
         throw InputError(format("{}: {} bytes, expected {}", (simDir / "transforms.bin").string(), bytes.size(),
                                 transforms.size() * sizeof(float)));
-    std::memcpy(transforms.data(), bytes.data(), bytes.size());  // little-endian, as this machine
+    if (!bytes.empty()) std::memcpy(transforms.data(), bytes.data(), bytes.size());  // little-endian, as this machine
     for (float v : transforms)
         if (!std::isfinite(v)) throw InputError(format("{}: a value is not finite", (simDir / "transforms.bin").string()));
     return motionOf(transforms, pieces, frames, fps);

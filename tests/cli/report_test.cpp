@@ -13,7 +13,6 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstring>
 #include <random>
 
 using namespace dawnforge;
@@ -23,8 +22,8 @@ using dawnforge::test::TempDir;
 namespace {
 
 std::vector<std::byte> bytesOf(std::string_view text) {
-    std::vector<std::byte> out(text.size());
-    std::memcpy(out.data(), text.data(), text.size());
+    std::vector<std::byte> out;
+    for (char c : text) out.push_back(std::byte(c));
     return out;
 }
 
