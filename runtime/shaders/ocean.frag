@@ -5,6 +5,7 @@
 // and nothing needs sorting.
 #include "common.glsl"
 #include "ocean_block.glsl"
+#include "ocean_waves.glsl"
 in vec3 vWorld;
 in vec3 vNormal;
 in float vShore;
@@ -30,10 +31,9 @@ vec2 channelSlope(vec2 xz, float t, int c, float times) {
 }
 
 vec2 rippleSlope(vec2 xz, float t) {
-    const vec4 weights = vec4(0.4, 0.3, 0.2, 0.1);  // OCEAN_NOISE_WEIGHTS
     vec2 slope = vec2(0.0);
-    for (int c = 0; c < 4; ++c) slope += weights[c] * channelSlope(xz, t, c, 1.0);
-    slope += weights[3] * channelSlope(xz, t, 3, RIPPLE_FINE);
+    for (int c = 0; c < 4; ++c) slope += OCEAN_NOISE_WEIGHTS[c] * channelSlope(xz, t, c, 1.0);
+    slope += OCEAN_NOISE_WEIGHTS[3] * channelSlope(xz, t, 3, RIPPLE_FINE);
     return ripples * RIPPLE_GAIN * ocean.params.z * slope;
 }
 

@@ -3,6 +3,7 @@
 // (wind.glsl) in the tree's own space, then placed by the instance's transform.
 #define DAWNFORGE_VERTEX_STAGE
 #include "common.glsl"
+#include "materials.glsl"
 #include "atlas.glsl"
 #include "surface.glsl"
 #include "wind.glsl"
@@ -31,7 +32,7 @@ void main() {
     vec3 world = (aModel * vec4(p, 1.0)).xyz + modelOffset;
 #ifdef DEPTH_PASS
     vLeafUv = aUv0;
-    vLeaf = (aMaterial & 15u) == 13u ? 1u : 0u;  // kGround: a leaf card
+    vLeaf = (aMaterial & 15u) == kGround ? 1u : 0u;  // a leaf card
     gl_Position = depthViewProj * vec4(world, 1.0);
 #else
     vWorld = world;

@@ -20,6 +20,22 @@ struct Leaf {
 
 constexpr int kLeaves = 96;
 constexpr int kSamples = 4;  // per texel and axis
+constexpr int kCells = 16;   // per axis: each cell lists the leaves that may cover it
+
+// The leaves whose bounding square (centre ± length, which holds the ellipse) meets each cell,
+// in drawing order.
+using LeafCells = std::vector<std::vector<int>>;
+LeafCells leafCells(const std::vector<Leaf>& all) {
+    LeafCells cells(std::size_t(kCells) * kCells);
+    const auto cellOf = [](double v) { return std::clamp(int(std::floor(v * kCells)), 0, kCells - 1); };
+    for (int k = 0; k < int(all.size()); ++k) {
+        const Leaf& l = all[std::size_t(k)];
+        for (int y = cellOf(l.centre.y - l.length); y <= cellOf(l.centre.y + l.length); ++y)
+            for (int x = cellOf(l.centre.x - l.length); x <= cellOf(l.centre.x + l.length); ++x)
+                cells[std::size_t(y) * kCells + std::size_t(x)].push_back(k);
+    }
+    return cells;
+}
 
 double srgbToLinear(double s) { return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4); }
 std::uint8_t linearToSrgb8(double l) {
@@ -47,13 +63,17 @@ std::vector<Leaf> leaves() {
     return out;
 }
 
-// The last leaf over p (the one drawn on top), with a darker midrib; none: alpha 0.
-bool leafAt(const std::vector<Leaf>& all, glm::dvec2 p, glm::dvec3& colour) {
-    for (auto it = all.rbegin(); it != all.rend(); ++it) {
-        const glm::dvec2 d = p - it->centre;
-        const double along = glm::dot(d, it->axis) / it->length, across = (d.x * -it->axis.y + d.y * it->axis.x) / it->width;
+// The last leaf over p (the one drawn on top), with a darker midrib; none: alpha 0. Only the
+// leaves of p's cell can cover it.
+bool leafAt(const std::vector<Leaf>& all, const LeafCells& cells, glm::dvec2 p, glm::dvec3& colour) {
+    const std::vector<int>& near = cells[std::size_t(std::min(int(p.y * kCells), kCells - 1)) * kCells +
+                                         std::size_t(std::min(int(p.x * kCells), kCells - 1))];
+    for (auto k = near.rbegin(); k != near.rend(); ++k) {
+        const Leaf& l = all[std::size_t(*k)];
+        const glm::dvec2 d = p - l.centre;
+        const double along = glm::dot(d, l.axis) / l.length, across = (d.x * -l.axis.y + d.y * l.axis.x) / l.width;
         if (along * along + across * across > 1.0) continue;
-        colour = it->colour * (std::abs(across) < 0.08 ? 0.7 : 1.0 + 0.15 * along);
+        colour = l.colour * (std::abs(across) < 0.08 ? 0.7 : 1.0 + 0.15 * along);
         return true;
     }
     return false;
@@ -61,6 +81,7 @@ bool leafAt(const std::vector<Leaf>& all, glm::dvec2 p, glm::dvec3& colour) {
 
 // Level 0 in linear light (rgb) and coverage (a), the uncovered texels' colour still unset.
 std::vector<glm::dvec4> levelZero(const std::vector<Leaf>& all) {
+    const LeafCells cells = leafCells(all);
     std::vector<glm::dvec4> texels(std::size_t(kLeafSize) * kLeafSize, glm::dvec4(0.0));
     for (int y = 0; y < kLeafSize; ++y)
         for (int x = 0; x < kLeafSize; ++x) {
@@ -69,7 +90,7 @@ std::vector<glm::dvec4> levelZero(const std::vector<Leaf>& all) {
                 for (int i = 0; i < kSamples; ++i) {
                     glm::dvec3 c;
                     const glm::dvec2 p((x + (i + 0.5) / kSamples) / kLeafSize, (y + (j + 0.5) / kSamples) / kLeafSize);
-                    if (leafAt(all, p, c)) t += glm::dvec4(c, 1.0);
+                    if (leafAt(all, cells, p, c)) t += glm::dvec4(c, 1.0);
                 }
             if (t.a > 0.0) t = glm::dvec4(glm::dvec3(t) / t.a, t.a / (kSamples * kSamples));
         }
