@@ -55,8 +55,8 @@ void addTube(Mesh& m, double length, double r0, double r1, std::uint8_t material
         }
     const auto row = std::uint32_t(sides + 1);
     for (std::uint32_t i = 0; i < std::uint32_t(sides); ++i)
-        m.indices.insert(m.indices.end(), {base + i, base + row + i, base + i + 1, base + i + 1, base + row + i,
-                                           base + row + i + 1});
+        m.indices.insert(m.indices.end(), {base + i, base + i + 1, base + row + i, base + i + 1, base + row + i + 1,
+                                           base + row + i});  // counter-clockwise from outside, as glTF's front
 }
 
 // A square card centred at c spanning ±half along u and v (unit, perpendicular); uv in metres,

@@ -148,6 +148,26 @@ TEST(Dressing, SpeciesArePivotPainterHierarchiesWithChildrenOnTheirParentsAxis) 
     }
 }
 
+// Every triangle of a tree and of the lamp faces where its vertices' normals point: glTF's
+// front is counter-clockwise, and consumers that cull back faces (Blender, three.js, Unreal)
+// showed the trunks, branches and lamp poles inside out until Blender's import found it
+// (tests/consumers/blender.sh).
+void expectWoundOutwards(const Mesh& m, const std::string& name) {
+    std::size_t against = 0;
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+        const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
+        const glm::vec3 face = glm::cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+        for (const std::uint32_t v : {a, b, c}) against += glm::dot(face, m.normals[v]) < 0.0f;
+    }
+    EXPECT_EQ(against, 0u) << name << ": corners facing against their triangle's winding";
+}
+
+TEST(Dressing, TreesAndLampsAreWoundCounterClockwiseFromOutside) {
+    for (const TreeSpecies& s : makeTreeSpecies(5))
+        for (const TreeElement& e : s.elements) expectWoundOutwards(e.mesh, s.name + " " + e.name);
+    expectWoundOutwards(makeLampMesh(DressingRecipe{}), "lamp");
+}
+
 TEST(Dressing, ATileAloneHasTheSameTreesAndLampsAsTheWholeCity) {
     CitySettings s = dressedCity();
     s.tile = glm::ivec2(1, 0);
