@@ -26,6 +26,8 @@ namespace dawnforge::exporters {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// The most rows per frame whose hundreds the Labs bound code can count (the HDA's own limit).
+constexpr int kLabsMaxRowsPerFrame = 1980;
 
 // Engine space = scale × axes × (our / Houdini space: metres, +Y up, right-handed).
 struct Engine {
@@ -201,9 +203,71 @@ void encodePiece(Vat& vat, const VatAnimation& animation, const Engine& engine, 
     }
 }
 
+// The 13 bits of x at `shift` as a half float whose exponent bits 13-14 are `pattern`, the
+// Labs HDA's packing ("Very High" pivots): 0x4000 puts the value in [2, 512), 0x2000 in
+// [2^-7, 2), so that the decoder tells the forms apart.
+float splitHalf(std::uint32_t bits, int shift, std::uint16_t pattern) {
+    const std::uint32_t x = (bits >> shift) & 0x1FFFu;
+    Imath::half h;
+    h.setBits(std::uint16_t(((x >> 12) << 15) | pattern | ((x & 0xFFFu) << 1)));
+    return float(h);
+}
+
+float roundToHalf(double v) { return float(Imath::half(float(v))); }
+
+// Unreal's "Very High" pivot (Labs HDA, the Unreal preset): Houdini axes, metres, in
+// TEXCOORD_2 and TEXCOORD_3 as Unreal sees them (glTF V, from the top). Either the pivot's x
+// and z as halves with y's top 26 bits split over the two V's ("original"), or its direction's
+// x and z as halves with its length split ("normalized"), whichever lands nearer.
+std::pair<glm::vec2, glm::vec2> veryHighPivot(const glm::dvec3& p) {
+    double m = glm::length(p);
+    glm::dvec3 n = m > 0.0 ? p / m : glm::dvec3(0, 1, 0);
+    if (n.y < 0.0) n = -n, m = -m;
+    std::uint32_t mBits = 0, yBits = 0;
+    const float mf = float(m), yf = float(p.y);
+    std::memcpy(&mBits, &mf, 4);
+    std::memcpy(&yBits, &yf, 4);
+    mBits &= 0xFFFFFFC0u;
+    float mTruncated = 0.0f;
+    std::memcpy(&mTruncated, &mBits, 4);
+    const double nx = roundToHalf(n.x), nz = roundToHalf(n.z);
+    const glm::dvec3 normalized = glm::dvec3(nx, std::sqrt(std::max(0.0, 1.0 - nx * nx - nz * nz)), nz) * double(mTruncated);
+    const glm::dvec3 original(roundToHalf(p.x), p.y, roundToHalf(p.z));
+    if (glm::distance(p, original) <= glm::distance(p, normalized) || n.y * n.y < 0.001)
+        return {{roundToHalf(p.x), splitHalf(yBits, 19, 0x4000)}, {roundToHalf(p.z), splitHalf(yBits, 6, 0x2000)}};
+    return {{float(nx), splitHalf(mBits, 19, 0x4000)}, {float(nz), splitHalf(mBits, 6, 0x4000)}};
+}
+
+// The pivot UVs of a preset (TEXCOORD_2, TEXCOORD_3) for a pivot in our (Houdini) axes and
+// metres. Unity's and our own runtime's are the unencoded Labs form (uv3 = (px, 1), uv4 =
+// (py, 1 - pz) with V flipped); Unreal's the Very High form (its material takes both in
+// metres and scales by 100 itself).
+std::pair<glm::vec2, glm::vec2> pivotUvs(const glm::dvec3& p, VatPreset preset) {
+    if (preset == VatPreset::Unreal) return veryHighPivot(p);
+    return {{float(p.x), 0.0f}, {float(p.y), float(p.z)}};
+}
+
+// The pivot as the Unreal material decodes TEXCOORD_2/3 (Houdini axes, metres): how far the
+// encoding moved it.
+double veryHighError(const glm::dvec3& p) {
+    const auto [a, b] = veryHighPivot(p);
+    const auto join = [](float hi, float lo) {  // the material's "Decode Magnitude"
+        const std::uint32_t h = Imath::half(hi).bits(), l = Imath::half(lo).bits();
+        const std::uint32_t bits = ((((h & 0x8000u) | ((h << 2) & 0x7FF8u))) << 16) | (((l & 0x8000u) | ((l << 2) & 0x7FF8u)) << 3);
+        float f = 0.0f;
+        std::memcpy(&f, &bits, 4);
+        return double(f);
+    };
+    const glm::dvec3 decoded = std::abs(b.y) < 2.0f
+                                   ? glm::dvec3(a.x, join(a.y, b.y), b.x)
+                                   : glm::dvec3(a.x, std::sqrt(std::max(0.0, 1.0 - double(a.x) * a.x - double(b.x) * b.x)), b.x) *
+                                         join(a.y, b.y);
+    return glm::distance(decoded, p);
+}
+
 // The mesh at frame 0, each piece with its lookup texel (TEXCOORD_1) and pivot
 // (TEXCOORD_2/3).
-void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, const Engine& engine) {
+void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, VatPreset preset) {
     for (std::size_t j = 0; j < animation.pieces.size(); ++j) {
         Mesh piece = animation.pieces[j];
         const glm::dquat rest = orientation(animation.transforms, j);
@@ -213,10 +277,10 @@ void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout
         for (glm::vec3& v : piece.normals) v = glm::vec3(rest * glm::dvec3(v));
         const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
                                float((double(j / std::size_t(L.width)) + 0.5) / L.height));
-        const glm::dvec3 p = engine.scale * pivot;  // Houdini axes, engine units
+        const auto [uv2, uv3] = pivotUvs(pivot, preset);
         piece.uv1.assign(count, lookup);
-        piece.uv2.assign(count, glm::vec2(float(p.x), 0.0f));          // Labs (px, 1), V flipped
-        piece.uv3.assign(count, glm::vec2(float(p.y), float(p.z)));    // Labs (py, 1 - pz), V flipped
+        piece.uv2.assign(count, uv2);
+        piece.uv3.assign(count, uv3);
         piece.pieceIds.assign(count, std::uint32_t(j));
         appendMesh(out, piece, glm::mat4(1.0f));
     }
@@ -236,20 +300,27 @@ EngineBounds engineBounds(const Vat& vat, const Engine& engine) {
         b.lo[a] = snapDown(vat.boundsMin[a], s);
         b.hi[a] = snapUp(vat.boundsMax[a], s);
     }
-    const int R = vat.layout.rowsPerFrame;
-    b.encodedLo = b.lo - glm::dvec3(0.0, double(R % 100) * 0.001 * s, 0.0);
-    b.encodedHi = b.hi + glm::dvec3(0.0, 0.0, (0.5 + 0.01 * double(R / 100)) * 0.1 * s);
+    // The codes go on Houdini's min y and max z, wherever the preset's axes put them (Unreal:
+    // min Z and max Y). Hundreds of rows count on in hundredths past the HDR flag's 0.5,
+    // skipping 0.60 and 0.70, as the Labs HDA writes them and its Unreal material reads them.
+    const int R = vat.layout.rowsPerFrame, hundreds = R / 100;
+    const double code = 0.5 + 0.01 * double(hundreds + (hundreds > 9) + (hundreds > 18));
+    b.encodedLo = b.lo + engine.axes * glm::dvec3(0.0, -double(R % 100) * 0.001 * s, 0.0);
+    b.encodedHi = b.hi + engine.axes * glm::dvec3(0.0, 0.0, code * 0.1 * s);
     return b;
 }
 
-// The two degenerate data triangles that carry the encoded bounds in an engine preset's
-// mesh: lookup UV (0, 0) (V flipped), piece id = pieces.
+// The two data triangles that carry the encoded bounds in an engine preset's mesh, one at
+// each corner with 1 cm legs pointing inwards (as the Labs HDA makes them: an importer that
+// drops degenerate triangles, as Unreal's does by default, keeps them): lookup UV (0, 0)
+// (V flipped), piece id = pieces.
 void appendDataTriangles(Mesh& out, const EngineBounds& bounds, const Engine& engine, std::size_t pieces) {
     Mesh data;
-    for (const glm::dvec3& corner : {bounds.encodedHi, bounds.encodedLo}) {
-        const glm::vec3 p(glm::transpose(engine.axes) * corner / engine.scale);  // back to glTF axes, metres
+    for (const auto& [corner, inward] : {std::pair{bounds.encodedHi, -1.0}, std::pair{bounds.encodedLo, 1.0}}) {
+        const glm::dvec3 p = glm::transpose(engine.axes) * corner / engine.scale;  // back to glTF axes, metres
         const std::uint32_t base = std::uint32_t(data.positions.size());
-        for (int i = 0; i < 3; ++i) data.positions.push_back(p);
+        for (const glm::dvec3& leg : {glm::dvec3(0.0), glm::dvec3(0, 0.01, 0), glm::dvec3(0, 0, 0.01)})
+            data.positions.push_back(glm::vec3(p + inward * leg));
         data.indices.insert(data.indices.end(), {base, base + 1, base + 2});
     }
     const std::size_t m = data.positions.size();
@@ -289,6 +360,7 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
     j["max_turns_per_frame"] = vat.maxTurnsPerFrame;
     j["max_position_error"] = vat.maxPositionError;
     j["max_rotation_error"] = vat.maxRotationError;
+    j["max_pivot_error"] = vat.maxPivotError;
     j["max_vertex_error"] = vat.maxVertexError;
     j["textures"] = {{"position", settings.name + "_pos.exr"},
                      {"rotation", settings.name + "_rot.exr"},
@@ -298,8 +370,11 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
                      {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
     j["mesh"] = {{"file", settings.name + "_mesh.glb"},
                  {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
-                 {"pivot", "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, engine units (Labs uv3 = (px, 1), "
-                           "uv4 = (py, 1 - pz) with V flipped)"},
+                 {"pivot", settings.preset == VatPreset::Unreal
+                               ? "TEXCOORD_2, TEXCOORD_3: the Labs 'Very High' form (Houdini axes, metres; halves with a "
+                                 "26-bit y or length split over the two V's), for Unreal's default 16-bit UVs"
+                               : "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, metres (Labs uv3 = (px, 1), "
+                                 "uv4 = (py, 1 - pz) with V flipped)"},
                  {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
     if (settings.preset == VatPreset::Unity) {
         // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
@@ -369,7 +444,16 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::vector<double> radius = pieceRadii(animation.pieces);
     for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
-    appendPieceMeshes(vat.mesh, animation, vat.layout, engine);
+    if (settings.preset != VatPreset::Native && vat.layout.rowsPerFrame > kLabsMaxRowsPerFrame)
+        throw InputError(format("{} rows per frame: the Labs bounds carry at most {} (a larger --max-width)",
+                                vat.layout.rowsPerFrame, kLabsMaxRowsPerFrame));
+    if (settings.preset == VatPreset::Unreal) {
+        // A pivot the UVs carry a little off moves every vertex of its piece by as much.
+        for (std::size_t j = 0; j < n; ++j)
+            vat.maxPivotError = std::max(vat.maxPivotError, veryHighError(position(animation.transforms, j)));
+        vat.maxVertexError += vat.maxPivotError;
+    }
+    appendPieceMeshes(vat.mesh, animation, vat.layout, settings.preset);
     vat.mesh.name = settings.name;
     const EngineBounds bounds = engineBounds(vat, engine);
     if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);

@@ -73,6 +73,7 @@ struct Vat {
     // Worst error the stored precision introduced, decoded and compared with the input:
     double maxPositionError = 0.0;  // m, pivot positions
     double maxRotationError = 0.0;  // rad, orientations
+    double maxPivotError = 0.0;     // m, how far the pivot UVs move a pivot (Unreal's Very High form)
     double maxVertexError = 0.0;    // m, bound on any vertex (position + rotation × piece radius)
     std::string dataJson;           // <name>_data.json
 };
