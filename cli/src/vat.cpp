@@ -67,6 +67,9 @@ Command addVat(CLI::App& app, CommonOptions&) {
     cmd->add_option("--max-width", s.maxWidth, "Texture width limit; more pieces take several rows per frame")
         ->check(CLI::Range(1, exporters::kVatMaxTextureSize))->capture_default_str();
     cmd->add_option("--name", s.name, "File name prefix")->capture_default_str();
+    cmd->add_flag("--full-precision-uvs", s.fullPrecisionUvs,
+                  "unreal: exact pivots in 32-bit UVs (turn on Unreal's 'Use Full Precision UVs') instead of the Labs "
+                  "'Very High' form, which costs up to 1/4096 of a pivot's distance from the origin");
     return {cmd, [o] { return runVat(*o); }};
 }
 

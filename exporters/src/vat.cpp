@@ -238,13 +238,16 @@ std::pair<glm::vec2, glm::vec2> veryHighPivot(const glm::dvec3& p) {
     return {{float(nx), splitHalf(mBits, 19, 0x4000)}, {float(nz), splitHalf(mBits, 6, 0x4000)}};
 }
 
-// The pivot UVs of a preset (TEXCOORD_2, TEXCOORD_3) for a pivot in our (Houdini) axes and
-// metres. Unity's and our own runtime's are the unencoded Labs form (uv3 = (px, 1), uv4 =
-// (py, 1 - pz) with V flipped); Unreal's the Very High form (its material takes both in
-// metres and scales by 100 itself).
-std::pair<glm::vec2, glm::vec2> pivotUvs(const glm::dvec3& p, VatPreset preset) {
-    if (preset == VatPreset::Unreal) return veryHighPivot(p);
+// The pivot UVs (TEXCOORD_2, TEXCOORD_3) for a pivot in our (Houdini) axes and metres: the
+// unencoded Labs form (uv3 = (px, 1), uv4 = (py, 1 - pz) with V flipped), or Unreal's Very
+// High form (its material takes both in metres and scales by 100 itself).
+std::pair<glm::vec2, glm::vec2> pivotUvs(const glm::dvec3& p, bool veryHigh) {
+    if (veryHigh) return veryHighPivot(p);
     return {{float(p.x), 0.0f}, {float(p.y), float(p.z)}};
+}
+
+bool usesVeryHighPivots(const VatSettings& settings) {
+    return settings.preset == VatPreset::Unreal && !settings.fullPrecisionUvs;
 }
 
 // The pivot as the Unreal material decodes TEXCOORD_2/3 (Houdini axes, metres): how far the
@@ -267,7 +270,7 @@ double veryHighError(const glm::dvec3& p) {
 
 // The mesh at frame 0, each piece with its lookup texel (TEXCOORD_1) and pivot
 // (TEXCOORD_2/3).
-void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, VatPreset preset) {
+void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, bool veryHigh) {
     for (std::size_t j = 0; j < animation.pieces.size(); ++j) {
         Mesh piece = animation.pieces[j];
         const glm::dquat rest = orientation(animation.transforms, j);
@@ -277,7 +280,7 @@ void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout
         for (glm::vec3& v : piece.normals) v = glm::vec3(rest * glm::dvec3(v));
         const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
                                float((double(j / std::size_t(L.width)) + 0.5) / L.height));
-        const auto [uv2, uv3] = pivotUvs(pivot, preset);
+        const auto [uv2, uv3] = pivotUvs(pivot, veryHigh);
         piece.uv1.assign(count, lookup);
         piece.uv2.assign(count, uv2);
         piece.uv3.assign(count, uv3);
@@ -370,11 +373,12 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
                      {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
     j["mesh"] = {{"file", settings.name + "_mesh.glb"},
                  {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
-                 {"pivot", settings.preset == VatPreset::Unreal
+                 {"pivot", usesVeryHighPivots(settings)
                                ? "TEXCOORD_2, TEXCOORD_3: the Labs 'Very High' form (Houdini axes, metres; halves with a "
                                  "26-bit y or length split over the two V's), for Unreal's default 16-bit UVs"
-                               : "TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, metres (Labs uv3 = (px, 1), "
-                                 "uv4 = (py, 1 - pz) with V flipped)"},
+                               : std::string("TEXCOORD_2 = (px, 0), TEXCOORD_3 = (py, pz): Houdini axes, metres (Labs uv3 = "
+                                             "(px, 1), uv4 = (py, 1 - pz) with V flipped)") +
+                                     (settings.preset == VatPreset::Unreal ? "; turn on 'Use Full Precision UVs' in Unreal" : "")},
                  {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
     if (settings.preset == VatPreset::Unity) {
         // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
@@ -444,16 +448,19 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::vector<double> radius = pieceRadii(animation.pieces);
     for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
+    if (settings.fullPrecisionUvs && settings.preset != VatPreset::Unreal)
+        throw InputError(format("--full-precision-uvs is for the unreal preset (the {} preset's pivots are exact already)",
+                                vatPresetName(settings.preset)));
     if (settings.preset != VatPreset::Native && vat.layout.rowsPerFrame > kLabsMaxRowsPerFrame)
         throw InputError(format("{} rows per frame: the Labs bounds carry at most {} (a larger --max-width)",
                                 vat.layout.rowsPerFrame, kLabsMaxRowsPerFrame));
-    if (settings.preset == VatPreset::Unreal) {
+    if (usesVeryHighPivots(settings)) {
         // A pivot the UVs carry a little off moves every vertex of its piece by as much.
         for (std::size_t j = 0; j < n; ++j)
             vat.maxPivotError = std::max(vat.maxPivotError, veryHighError(position(animation.transforms, j)));
         vat.maxVertexError += vat.maxPivotError;
     }
-    appendPieceMeshes(vat.mesh, animation, vat.layout, settings.preset);
+    appendPieceMeshes(vat.mesh, animation, vat.layout, usesVeryHighPivots(settings));
     vat.mesh.name = settings.name;
     const EngineBounds bounds = engineBounds(vat, engine);
     if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);

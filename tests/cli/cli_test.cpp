@@ -579,6 +579,7 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
     expectBadInput({"vat", sim, "-o", out, "--max-width", "1"}, "at most 682 frames fit");
     expectBadInput({"vat", sim, "-o", out, "--max-width", "0"}, "--max-width");
     expectBadInput({"vat", sim, "-o", out, "--preset", "blender"}, "blender");
+    expectBadInput({"vat", sim, "-o", out, "--preset", "unity", "--full-precision-uvs"}, "for the unreal preset");
     expectBadInput({"vat", (dir / "fracture").string(), "-o", out}, "sim.json");
     // A simulation that does not match its mesh: transforms.bin cut short.
     auto bytes = test::readBytes(dir / "sim" / "transforms.bin");

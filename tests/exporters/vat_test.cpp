@@ -596,6 +596,26 @@ TEST(Vat, EngineBoundsCarryTheLabsCodesOnHoudinisAxes) {
     EXPECT_TRUE(test::contains(inputErrorOf([&] { encodeVat(VatAnimation{many, identity, 1, 30.0}, tooTall); }), "at most 1980"));
 }
 
+// --full-precision-uvs: Unreal's pivots unencoded (the material's "TexCoord[2].y = 0" form),
+// exact; refused for the other presets.
+TEST(Vat, UnrealFullPrecisionUvsCarryThePivotsExactly) {
+    const Animation animation;
+    VatSettings settings;
+    settings.preset = VatPreset::Unreal;
+    settings.fullPrecisionUvs = true;
+    const Vat vat = encodeVat(animation.view(), settings);
+    EXPECT_EQ(vat.maxPivotError, 0.0);
+    for (std::size_t i = 0; i < vat.mesh.positions.size(); ++i) {
+        const std::uint32_t j = vat.mesh.pieceIds[i];
+        if (j == kPieces) continue;
+        const glm::dvec3 want = toEngine(VatPreset::Unreal, animation.position(0, int(j)));
+        EXPECT_EQ(vat.mesh.uv2[i].y, 0.0f);
+        EXPECT_LT(glm::distance(glm::dvec3(decodeUnrealPivot(vat.mesh.uv2[i], vat.mesh.uv3[i])), want), 1e-4) << i;
+    }
+    settings.preset = VatPreset::Unity;
+    EXPECT_TRUE(test::contains(inputErrorOf([&] { encodeVat(animation.view(), settings); }), "for the unreal preset"));
+}
+
 TEST(Vat, NativeDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Native, false); }
 TEST(Vat, UnityDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Unity, false); }
 TEST(Vat, UnrealDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Unreal, false); }

@@ -34,6 +34,9 @@ struct VatSettings {
     bool half = false;      // RGBA16F instead of RGBA32F
     int maxWidth = 1024;    // texture width limit (1 to 8192)
     std::string name = "vat";
+    // Unreal: the pivots unencoded in 32-bit UVs (exact; the mesh needs Unreal's "Use Full
+    // Precision UVs") instead of the Labs "Very High" form for its default 16-bit UVs.
+    bool fullPrecisionUvs = false;
 };
 
 inline constexpr int kVatMaxTextureSize = 8192;
