@@ -1,0 +1,37 @@
+// What the consumer pages share: their query, and files loaded as an engine imports them.
+
+import * as THREE from 'three';
+import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
+
+const query = new URLSearchParams(location.search);
+
+// The query's value of `key`; null when it is optional and absent, else an error.
+export function param(key, { optional = false } = {}) {
+  const value = query.get(key);
+  if (value === null && !optional) throw new Error(`${location.pathname}: the query needs ${key}=`);
+  return value;
+}
+
+// A texture as the Labs and Pivot Painter import settings want it: nearest filtering, no mips,
+// no colour conversion.
+export function nearest(texture) {
+  texture.minFilter = texture.magFilter = THREE.NearestFilter;
+  texture.generateMipmaps = false;
+  texture.colorSpace = THREE.NoColorSpace;
+  texture.needsUpdate = true;
+  return texture;
+}
+
+// An EXR as 32-bit floats (a half file's values converted, as a GPU samples them), its first
+// row at V = 1: three's EXRLoader flips the rows itself.
+export async function loadExr(url) {
+  return nearest(await new EXRLoader().setDataType(THREE.FloatType).loadAsync(url));
+}
+
+// The one mesh of a loaded glTF, its geometry without an index (one entry per corner).
+export function onlyMesh(gltf, url) {
+  const meshes = [];
+  gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
+  if (meshes.length !== 1) throw new Error(`${url}: ${meshes.length} meshes, expected 1`);
+  return meshes[0].geometry.index ? meshes[0].geometry.toNonIndexed() : meshes[0].geometry;
+}

@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Checks a browser consumer's report (run-page.mjs's JSON) against stated bounds.
+
+  check.py vat REPORT.json BOUND_M      every piece vertex of every frame within BOUND_M metres of
+                                        transforms.bin (the report's units converted); the data
+                                        triangles' vertices all at the origin
+  check.py pivots REPORT.json           every vertex's element, parent, pivot (within the rounding
+                                        of a half float), X axis (within 1/255) and extent (within
+                                        half of the 8-bit step of 2048/255 cm)
+
+Prints one line per report; exits 1 with the reason when a bound does not hold.
+"""
+import json
+import sys
+
+
+def fail(message):
+    print(f"FAILED: {message}")
+    sys.exit(1)
+
+
+def check_vat(report, bound_m):
+    r = report["result"]
+    scale = 100.0 if r["units"] == "centimetres" else 1.0
+    worst = max((f["max_error"] if f["max_error"] is not None else float("inf")) for f in r["frames"]) / scale
+    label = f'{r["name"]} ({r["engine"]} decoder, {r["precision"]}, {r["vertices"]} vertices, frames ' \
+            f'{",".join(str(f["frame"]) for f in r["frames"])})'
+    if r["data_vertices"] != 6:
+        fail(f"{label}: {r['data_vertices']} data-triangle vertices, expected 6")
+    if r["data_vertices_off_origin"]:
+        fail(f"{label}: {r['data_vertices_off_origin']} data-triangle vertices not hidden at the origin")
+    if not worst <= bound_m:
+        frame = max(r["frames"], key=lambda f: f["max_error"] if f["max_error"] is not None else float("inf"))
+        fail(f"{label}: a vertex is {worst:.3g} m from the simulation (frame {frame['frame']}, vertex "
+             f"{frame['worst_vertex']}); the bound is {bound_m:.3g} m")
+    print(f"ok: {label}: worst {worst:.3g} m (bound {bound_m:.3g} m)")
+
+
+def check_pivots(report):
+    r = report["result"]
+    w = r["worst"]
+    label = f'{r["species"]} ({r["elements"]} elements, {r["levels"]} levels, {r["vertices"]} vertices)'
+    problems = []
+    if r["vertex_count_mismatches"]:
+        problems.append(f"vertices per element differ from city.glb: {r['vertex_count_mismatches'][:3]}")
+    if w["index_out_of_range"]:
+        problems.append(f"{w['index_out_of_range']} vertices address no element")
+    if w["parent_mismatches"]:
+        problems.append(f"{w['parent_mismatches']} vertices decode the wrong parent index")
+    if not w["pivot_over_half_step"] <= 1.1:
+        problems.append(f"a pivot is {w['pivot_cm']:.3g} cm off ({w['pivot_over_half_step']:.3g} x the half-float rounding)")
+    if not w["axis"] <= 1 / 255 + 1e-4:
+        problems.append(f"an X axis component is {w['axis']:.3g} off (bound 1/255)")
+    if not w["extent_cm"] <= 1024 / 255 + 0.1:
+        problems.append(f"an extent is {w['extent_cm']:.3g} cm off (bound {1024 / 255 + 0.1:.3g} cm)")
+    if problems:
+        fail(f"{label}: " + "; ".join(problems))
+    print(f"ok: {label}: pivot within {w['pivot_cm']:.3g} cm, axis {w['axis']:.4f}, extent {w['extent_cm']:.3g} cm")
+
+
+def main():
+    kind, path = sys.argv[1], sys.argv[2]
+    with open(path) as f:
+        report = json.load(f)
+    if not report.get("ok"):
+        fail(f"the page did not finish: {report}")
+    if kind == "vat":
+        check_vat(report, float(sys.argv[3]))
+    elif kind == "pivots":
+        check_pivots(report)
+    else:
+        fail(f"unknown kind {kind}")
+
+
+if __name__ == "__main__":
+    main()
