@@ -616,6 +616,28 @@ TEST(Vat, UnrealFullPrecisionUvsCarryThePivotsExactly) {
     EXPECT_TRUE(test::contains(inputErrorOf([&] { encodeVat(animation.view(), settings); }), "for the unreal preset"));
 }
 
+// The rotation alpha is the angle between the stored poses, the way round and the whole turns
+// the simulated path took: the Labs slerp takes it as the angle between its two ends, and a path
+// whose axis turned within the frame is longer than that (found by the browser consumer).
+TEST(Vat, RotationAlphaIsThePosesAngleTheWayThePathTurned) {
+    const Mesh box = makeBox({-0.1f, -0.1f, -0.1f}, {0.1f, 0.1f, 0.1f});
+    const std::vector<Mesh> pieces{box};
+    const glm::quat quarter = glm::angleAxis(glm::radians(90.0f), glm::vec3(0, 1, 0));
+    const std::vector<float> transforms{0, 0, 0, 0, 0, 0, 1, 0, 0, 0, quarter.x, quarter.y, quarter.z, quarter.w};
+    for (const auto& [path, want] : {std::pair{0.26f, 0.25}, std::pair{-0.74f, -0.75}, std::pair{1.27f, 1.25}}) {
+        const std::vector<float> turns{path, 0.0f};
+        for (const VatPreset preset : kPresets) {
+            VatSettings settings;
+            settings.preset = preset;
+            const Vat vat = encodeVat(VatAnimation{pieces, transforms, 2, 30.0, turns}, settings);
+            EXPECT_NEAR(std::abs(vat.rotation[3]), std::abs(want), 1e-6) << "path " << path;
+            // The sign also carries the packing's negations; the magnitude's sign is the path's
+            // unless packing negated one end, which it does not for these two poses.
+            EXPECT_EQ(vat.rotation[3] < 0.0f, want < 0.0) << "path " << path;
+        }
+    }
+}
+
 TEST(Vat, NativeDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Native, false); }
 TEST(Vat, UnityDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Unity, false); }
 TEST(Vat, UnrealDecodesTheAnimation) { checkDecodesTheAnimation(VatPreset::Unreal, false); }
