@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # consumers.vat: three.js, in Debian's chromium, plays dawnforge's VATs with the SideFX Labs
-# decoders of Unity and of Unreal written in GLSL ES (browser/vat.mjs), and every decoded vertex
-# must land where transforms.bin puts it: within 1 mm for float32 textures, within the
+# decoders of Unity and of Unreal written in GLSL ES (browser/vat.mjs), and every decoded vertex,
+# at whole frames and between two (the Labs interframe slerp), must land where transforms.bin and
+# turns.bin put it: within 1 mm for float32 textures, within the
 # max_vertex_error that _data.json declares for half floats and for Unreal's default pivots far
 # from the origin. Then the same check on files broken on purpose (pivot UV sets swapped,
-# lookup V from the bottom, Y and Z swapped) must fail.
+# lookup V from the bottom, Y and Z swapped, the rotation alpha's sign flipped) must fail.
 #
 # usage: vat.sh DAWNFORGE_EXE WORK_DIR      (exit 77: the browser is not installed)
 set -euo pipefail
@@ -43,7 +44,7 @@ print('%.2f,%.2f,%.2f' % (sum(p[0] for p in f) / len(f), 0.4 * b['height'], -sum
   "$exe" -q vat building_sim -o vat --preset unreal --name building_unreal_full --full-precision-uvs
 } >inputs.log
 
-frames=0,1,4,9,16,23
+frames=0,1,4.5,9,16.25,22.5
 play() {  # play REPORT NAME DECODER [MUTATION]
   local query=(--query vat=vat --query "name=$2" --query "decoder=$3" --query "sim=${sim:-sim}" --query "frames=$frames")
   [ $# -lt 4 ] || query+=(--query "mutate=$4")
@@ -58,7 +59,7 @@ for preset in unity unreal; do
   python3 "$here/check.py" vat "${preset}_half.json" "$(declared "vat/${preset}_half_data.json")"
 done
 
-sim=building_sim frames=0,8,20,39
+sim=building_sim frames=0,8,20.5,39
 play building_unity.json building_unity unity
 python3 "$here/check.py" vat building_unity.json 0.001
 play building_unreal.json building_unreal unreal
@@ -66,10 +67,10 @@ python3 "$here/check.py" vat building_unreal.json "$(declared vat/building_unrea
 play building_unreal_full.json building_unreal_full unreal
 python3 "$here/check.py" vat building_unreal_full.json 0.001
 unset sim
-frames=0,1,4,9,16,23
+frames=0,1,4.5,9,16.25,22.5
 
 # The check must see a broken file.
-for mutation in swap-pivot-uvs lookup-v-from-bottom swap-y-z; do
+for mutation in swap-pivot-uvs lookup-v-from-bottom swap-y-z rotation-alpha-negated; do
   for preset in unity unreal; do
     play "broken.json" "$preset" "$preset" "$mutation"
     if python3 "$here/check.py" vat broken.json 0.001 >broken.txt; then

@@ -3,7 +3,8 @@
 // simulation it came from.
 //
 // Query: vat=FOLDER (under /data/) name=PREFIX decoder=unity|unreal frames=K,K,...
-//        sim=FOLDER (under /data/, holding transforms.bin) [mutate=swap-pivot-uvs|lookup-v-from-bottom|swap-y-z]
+//        sim=FOLDER (under /data/, holding transforms.bin) [mutate=swap-pivot-uvs|lookup-v-from-bottom|swap-y-z|
+//        rotation-alpha-negated]
 //
 // three's GLTFLoader reads <name>_mesh.glb and its EXRLoader <name>_pos.exr and _rot.exr (as
 // 32-bit floats). The mesh then goes through what the engine's glTF importer does to it
@@ -56,7 +57,7 @@ function importMesh(geometry, engine) {
 const COMMON = /* glsl */ `
 uniform sampler2D posTex;
 uniform sampler2D rotTex;
-uniform float frame;          // the frame shown, from 0
+uniform float frame;          // the frame shown, from 0; between two frames, both are blended
 uniform vec3 boundMin;        // the mesh's bounds as the engine computes them (data triangles included)
 uniform vec3 boundMax;
 uniform float frameCount;     // Unity: the material's _frameCount
@@ -66,10 +67,27 @@ in vec2 engineUv2;
 in vec2 engineUv3;
 
 vec3 rotateByQuat(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
+
+struct Frame { vec3 position; vec4 q; float pscale; float turns; };
+
+// Both Labs decoders' interframe blend: the position and pscale linearly, the rotation by a
+// slerp through the rotation alpha's signed turns (a negative alpha: towards -q1).
+Frame blend(Frame a, Frame b, float t) {
+  Frame r = a;
+  r.position = mix(a.position, b.position, t);
+  r.pscale = mix(a.pscale, b.pscale, t);
+  if (abs(a.turns) > 1e-5) {
+    const float pi = 3.14159265358979;
+    float f = fract(abs(a.turns)), g = fract(abs(a.turns) * t);
+    r.q = normalize((sin(pi * (f - g)) * a.q + sin(pi * g) * sign(a.turns) * b.q) / sin(pi * f));
+  }
+  return r;
+}
 `;
 
 // Unity, the URP_VAT3 rigid-body graph: texture V from the bottom (Unity's convention, and
-// three's for an EXR: its loader puts the file's first row at the top).
+// three's for an EXR: its loader puts the file's first row at the top); _B_interpolate on, as
+// dawnforge's _data.json sets it.
 const UNITY = /* glsl */ `
 vec4 quatUnity(vec3 s, float m) {
   float w = sqrt(max(0.0, 1.0 - dot(s, s)));
@@ -78,15 +96,21 @@ vec4 quatUnity(vec3 s, float m) {
   if (m < 2.5) return vec4(s.x, -w, s.z, -s.y);
   return vec4(s.x, s.y, -w, -s.z);
 }
-vec3 decode() {
-  if (engineUv1.y <= 0.1) return vec3(0.0);  // the data triangles
-  vec2 uv = vec2(engineUv1.x, 1.0 - ((1.0 - engineUv1.y) + frame / frameCount));
+Frame unityFrame(float k) {
+  vec2 uv = vec2(engineUv1.x, 1.0 - ((1.0 - engineUv1.y) + k / frameCount));
   vec4 p = texture(posTex, uv);
   vec4 r = texture(rotTex, uv);
   float m = floor(4.0 * p.a);
   float pscale = 1.0 - (p.a - 0.25 * m) / 0.2495;  // max pscale 1: dawnforge's bounds carry no pscale code
+  return Frame(p.rgb, quatUnity(r.rgb, m), pscale, r.a);
+}
+vec3 decode() {
+  if (engineUv1.y <= 0.1) return vec3(0.0);  // the data triangles
+  float k = floor(frame);
+  Frame f = unityFrame(k);
+  if (frame > k) f = blend(f, unityFrame(k + 1.0), frame - k);
   vec3 pivot = vec3(-engineUv2.x, engineUv3.x, 1.0 - engineUv3.y);
-  return rotateByQuat(quatUnity(r.rgb, m), enginePos - pivot) * pscale + p.rgb;
+  return rotateByQuat(f.q, enginePos - pivot) * f.pscale + f.position;
 }
 `;
 
@@ -94,7 +118,7 @@ vec3 decode() {
 // HLSL and node graph): the codes it reads from the object's bounds (decimetres, rounded to
 // 1e-4), the three pivot forms of TexCoord[2] and [3], the lookup in TexCoord[1] with v from the
 // top (Unreal's convention, so the fetch turns it for three's textures), frames from 1 in
-// "Display Frame", interframe interpolation off (the material's default).
+// "Display Frame", its "Interframe Interpolation" switched on where the frame is fractional.
 const UNREAL = /* glsl */ `
 uint halfBitsTruncated(float f) {
   uint a = floatBitsToUint(f);
@@ -121,8 +145,9 @@ vec4 quatUnreal(vec3 s, float m) {
   if (m < 2.5) return vec4(s.x, s.y, -w, -s.z);
   return vec4(s.x, -w, s.z, -s.y);
 }
-vec3 decode() {
-  if (engineUv1.y >= 0.9) return vec3(0.0);  // the data triangles
+// What the bounds carry: x frames, y the HDR flag, z the largest pscale; the active area.
+struct Codes { float frames; bool hdr; float maxPscale; vec2 ratio; };
+Codes boundCodes() {
   vec3 bmax = round(boundMax / 1e-4) * 1e-4 * 0.1, bmin = round(boundMin / 1e-4) * 1e-4 * 0.1;
   float code = fract(bmax.y);
   float c = round(100.0 * code);
@@ -132,19 +157,26 @@ vec3 decode() {
     hundreds = round(t - floor(t / 10.0));
   }
   float rows = round(100.0 * (ceil(bmin.z) - bmin.z)) + 100.0 * hundreds;
-  float ratioY = 1.0 - (ceil(bmin.x) - bmin.x), ratioX = 1.0 - (ceil(bmin.y) - bmin.y);
-  float frames = round(float(textureSize(posTex, 0).y) * ratioY) / rows;
-  float maxPscale = 1.0 / (1.0 - fract(bmax.z));
-  float displayFrame = frame + 1.0;
-  float k = mod(floor(displayFrame) - 1.0, frames);
-  vec2 uv = vec2(engineUv1.x * ratioX, (engineUv1.y + k / frames) * ratioY);
-  vec2 glUv = vec2(uv.x, 1.0 - uv.y);
-  vec4 p = texture(posTex, glUv);
-  vec4 r = texture(rotTex, glUv);
-  if (code < 0.5) return vec3(-1e9);  // not HDR: dawnforge writes only HDR, so this is a broken bound
+  vec2 ratio = vec2(1.0 - (ceil(bmin.y) - bmin.y), 1.0 - (ceil(bmin.x) - bmin.x));
+  float frames = round(float(textureSize(posTex, 0).y) * ratio.y) / rows;
+  return Codes(frames, code >= 0.5, 1.0 / (1.0 - fract(bmax.z)), ratio);
+}
+Frame unrealFrame(float displayFrame, Codes codes) {
+  float k = mod(floor(displayFrame) - 1.0, codes.frames);
+  vec2 uv = vec2(engineUv1.x, engineUv1.y + k / codes.frames) * codes.ratio;
+  vec4 p = texture(posTex, vec2(uv.x, 1.0 - uv.y));
+  vec4 r = texture(rotTex, vec2(uv.x, 1.0 - uv.y));
   float m = floor(4.0 * p.a);
-  float pscale = (1.0 - fract(4.0 * p.a)) * maxPscale;
-  return rotateByQuat(quatUnreal(r.rgb, m), enginePos - pivotUnreal(engineUv2, engineUv3)) * pscale + p.rgb;
+  return Frame(p.rgb, quatUnreal(r.rgb, m), (1.0 - fract(4.0 * p.a)) * codes.maxPscale, r.a);
+}
+vec3 decode() {
+  if (engineUv1.y >= 0.9) return vec3(0.0);  // the data triangles
+  Codes codes = boundCodes();
+  if (!codes.hdr) return vec3(-1e9);  // dawnforge writes only HDR: a bound without the flag is broken
+  float displayFrame = frame + 1.0, k = floor(displayFrame);
+  Frame f = unrealFrame(k, codes);
+  if (displayFrame > k) f = blend(f, unrealFrame(k + 1.0, codes), displayFrame - k);
+  return rotateByQuat(f.q, enginePos - pivotUnreal(engineUv2, engineUv3)) * f.pscale + f.position;
 }
 `;
 
@@ -177,25 +209,62 @@ function decodeOnGpu(engine, mesh, textures, meta, frames) {
     frames.map((k) => (u) => { u.frame.value = k; }));
 }
 
-// transforms.bin: frames × pieces × (px py pz qx qy qz qw), float32 little-endian, glTF axes and
-// metres; frame 0 is the rest pose with identity orientations.
-function referenceAt(transforms, pieces, k, piece, rest) {
-  const t = (f, j, c) => transforms.getFloat32(4 * (7 * (f * pieces + j) + c), true);
-  const v = [0, 1, 2].map((c) => rest[c] - t(0, piece, c));
-  const [qx, qy, qz, qw] = [3, 4, 5, 6].map((c) => t(k, piece, c));
+// The simulation, read from its own files: transforms.bin is frames × pieces × (px py pz qx qy
+// qz qw), turns.bin frames × pieces signed turns to the next frame, both float32 little-endian
+// in glTF axes and metres; frame 0 is the rest pose with identity orientations.
+class Simulation {
+  constructor(transforms, turns, pieces) {
+    [this.transforms, this.turns, this.pieces] = [new DataView(transforms), new DataView(turns), pieces];
+  }
+  position(k, j) { return [0, 1, 2].map((c) => this.transforms.getFloat32(4 * (7 * (k * this.pieces + j) + c), true)); }
+  orientation(k, j) { return [3, 4, 5, 6].map((c) => this.transforms.getFloat32(4 * (7 * (k * this.pieces + j) + c), true)); }
+  turnsAfter(k, j) { return this.turns.getFloat32(4 * (k * this.pieces + j), true); }
+
+  // Piece j's pivot and orientation at a frame, between two frames as a VAT can show it: the
+  // pivot on the straight line, the orientation on the great circle between the two poses, the
+  // way round and the whole turns the simulated path took (turns.bin). pathMismatch: how far
+  // the path's angle is from the poses' (the axis turned within the frame).
+  pose(frame, j) {
+    const k = Math.floor(frame), t = frame - k;
+    if (t === 0) return { p: this.position(k, j), q: this.orientation(k, j) };
+    const [p0, p1] = [this.position(k, j), this.position(k + 1, j)];
+    const q0 = this.orientation(k, j), turns = this.turnsAfter(k, j);
+    const q1 = this.orientation(k + 1, j).map((c) => (turns < 0 ? -c : c));
+    const delta = multiply(q1, conjugate(q0));
+    const axisLength = Math.hypot(delta[0], delta[1], delta[2]);
+    const poses = 2 * Math.atan2(axisLength, delta[3]);  // radians, in [0, 2 pi]
+    const whole = Math.max(0, Math.round(Math.abs(turns) - poses / (2 * Math.PI)));
+    const half = 0.5 * t * (poses + 2 * Math.PI * whole);
+    const step = axisLength < 1e-9 ? [0, 0, 0, 1] : [...delta.slice(0, 3).map((c) => (c / axisLength) * Math.sin(half)), Math.cos(half)];
+    return { p: p0.map((c, i) => c + t * (p1[i] - c)), q: multiply(step, q0),
+      pathMismatch: Math.abs(poses + 2 * Math.PI * whole - 2 * Math.PI * Math.abs(turns)) };
+  }
+}
+
+function multiply([ax, ay, az, aw], [bx, by, bz, bw]) {
+  return [aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+    aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz];
+}
+const conjugate = ([x, y, z, w]) => [-x, -y, -z, w];
+
+// A vertex at rest moved by piece j's pose at `frame`.
+function referenceAt(sim, frame, j, rest) {
+  const { p, q: [qx, qy, qz, qw] } = sim.pose(frame, j);
+  const p0 = sim.position(0, j);
+  const v = [0, 1, 2].map((c) => rest[c] - p0[c]);
   // v + 2 q × (q × v + w v), written out
   const cx = qy * v[2] - qz * v[1] + qw * v[0], cy = qz * v[0] - qx * v[2] + qw * v[1], cz = qx * v[1] - qy * v[0] + qw * v[2];
   const r = [v[0] + 2 * (qy * cz - qz * cy), v[1] + 2 * (qz * cx - qx * cz), v[2] + 2 * (qx * cy - qy * cx)];
-  return [0, 1, 2].map((c) => r[c] + t(k, piece, c));
+  return [0, 1, 2].map((c) => r[c] + p[c]);
 }
 
 const toEngine = { unity: ([x, y, z]) => [-x, y, z], unreal: ([x, y, z]) => [100 * x, 100 * z, 100 * y] };
 
-function compare(engine, pieceIds, rest, decoded, transforms, meta, frames) {
+function compare(engine, pieceIds, rest, decoded, sim, meta, frames) {
   const perFrame = [];
   let dataVertices = 0, dataOffOrigin = 0;  // off the origin: counted at every frame
   frames.forEach((k, f) => {
-    let worst = 0, worstVertex = -1;
+    let worst = 0, worstVertex = -1, worstPath = 0;
     for (let i = 0; i < pieceIds.length; ++i) {
       const got = decoded[f].subarray(4 * i, 4 * i + 3);
       const piece = Math.round(pieceIds[i]);
@@ -204,20 +273,26 @@ function compare(engine, pieceIds, rest, decoded, transforms, meta, frames) {
         if (Math.hypot(...got) > 1e-6) dataOffOrigin += 1;
         continue;
       }
-      const want = toEngine[engine](referenceAt(transforms, meta.pieces, k, piece, rest.subarray(3 * i, 3 * i + 3)));
+      const want = toEngine[engine](referenceAt(sim, k, piece, rest.subarray(3 * i, 3 * i + 3)));
+      worstPath = Math.max(worstPath, sim.pose(k, piece).pathMismatch ?? 0);
       const error = Math.hypot(got[0] - want[0], got[1] - want[1], got[2] - want[2]);
       if (!(error <= worst)) [worst, worstVertex] = [error, i];  // NaN counts as worst
     }
-    perFrame.push({ frame: k, max_error: Number.isNaN(worst) ? null : worst, worst_vertex: worstVertex });
+    perFrame.push({ frame: k, max_error: Number.isNaN(worst) ? null : worst, worst_vertex: worstVertex,
+      turns_against_poses_rad: worstPath });
   });
   return { perFrame, dataVertices, dataOffOrigin };
 }
 
 // mutate=...: the mesh as a broken writer would have written it, to prove that the check sees it.
-function breakFile(mutation, geometry) {
+function breakFile(mutation, geometry, rotation) {
   if (mutation === null) return;
   const a = geometry.attributes;
   if (mutation === 'swap-pivot-uvs') [a.uv2, a.uv3] = [a.uv3, a.uv2];
+  else if (mutation === 'rotation-alpha-negated') {
+    for (let i = 3; i < rotation.image.data.length; i += 4) rotation.image.data[i] = -rotation.image.data[i];
+    rotation.needsUpdate = true;
+  }
   else if (mutation === 'lookup-v-from-bottom') for (let i = 1; i < a.uv1.array.length; i += 2) a.uv1.array[i] = 1 - a.uv1.array[i];
   else if (mutation === 'swap-y-z') for (let i = 0; i < a.position.array.length; i += 3) {
     [a.position.array[i + 1], a.position.array[i + 2]] = [a.position.array[i + 2], a.position.array[i + 1]];
@@ -230,13 +305,14 @@ async function run() {
   const base = `/data/${vatDir}/${name}`;
   const meta = await (await fetch(`${base}_data.json`)).json();
   const frames = param('frames').split(',').map(Number);
-  const [geometry, pos, rot, transforms] = await Promise.all([loadMesh(`${base}_mesh.glb`), loadExr(`${base}_pos.exr`),
-    loadExr(`${base}_rot.exr`), fetchBytes(`/data/${simDir}/transforms.bin`)]);
+  const [geometry, pos, rot, transforms, turns] = await Promise.all([loadMesh(`${base}_mesh.glb`), loadExr(`${base}_pos.exr`),
+    loadExr(`${base}_rot.exr`), fetchBytes(`/data/${simDir}/transforms.bin`), fetchBytes(`/data/${simDir}/turns.bin`)]);
   const rest = geometry.attributes.position.array.slice();
-  breakFile(param('mutate', { optional: true }), geometry);
+  breakFile(param('mutate', { optional: true }), geometry, rot);
   const mesh = importMesh(geometry, engine);
   const decoded = decodeOnGpu(engine, mesh, { pos, rot }, meta, frames);
-  const result = compare(engine, geometry.attributes._piece_id.array, rest, decoded, new DataView(transforms), meta, frames);
+  const result = compare(engine, geometry.attributes._piece_id.array, rest, decoded, new Simulation(transforms, turns, meta.pieces),
+    meta, frames);
   return { engine, name, preset: meta.preset, precision: meta.precision, vertices: mesh.n, pieces: meta.pieces,
     units: engine === 'unreal' ? 'centimetres' : 'metres', declared_max_vertex_error_m: meta.max_vertex_error,
     texture: [pos.image.width, pos.image.height], frames: result.perFrame,
