@@ -136,6 +136,7 @@ void writePivotPainter(const PivotPainter& p, const std::filesystem::path& dir, 
     Scene scene;
     scene.addMeshNode(p.mesh);
     scene.nodes[0].name = name;
+    scene.meshes[0].name = name;  // importers name the mesh after it (Blender showed "Mesh_0")
     scene.extrasJson = format(R"({{"generator":"dawnforge pivots","preset":"{}"}})", pivotPresetName(p.preset));
     const std::vector<std::byte> glb = encodeGlb(scene);
 

@@ -418,6 +418,8 @@ def check_single_mesh_object(c, report, name, generator, preset):
     c.equal(sorted(objs), [name], "objects")
     c.equal(report["scene_extras"].get("generator"), generator, "scene custom property generator")
     c.equal(report["scene_extras"].get("preset"), preset, "scene custom property preset")
+    if name in objs:  # the mesh too is named after the file (the Pivot Painter mesh was "Mesh_0")
+        c.equal(objs[name]["data"], name, "the object's mesh name")
     return blender_mesh(report, name)
 
 
