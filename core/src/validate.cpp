@@ -268,9 +268,20 @@ glm::dvec3 centre(const std::vector<Point>& points) {
     return 0.5 * (lo + hi);
 }
 
+// CGAL reports failed assertions and internal errors as CGAL::Failure_exception, whose text
+// names CGAL's source lines, not the user's mesh: say what it means instead. Any other
+// exception keeps its own text, on one line.
+std::string inOurWords(const std::exception& e) {
+    if (dynamic_cast<const CGAL::Failure_exception*>(&e))
+        return "the surface there is too tangled, or too nearly flat, for the geometry to be computed; clean that part "
+               "up in a modelling tool";
+    return oneLine(e.what());
+}
+
 enum class Flatness { Solid, Plane, Line, Point };
 
-// Whether the points span space (exact predicates): Plane when all lie in one plane.
+// Whether the points span space: Plane when all lie in one plane (exactly, or within a
+// millionth of their extent).
 template <typename PointRange>
 Flatness flatness(const PointRange& points) {
     auto it = std::begin(points);
@@ -292,8 +303,14 @@ Flatness flatness(const PointRange& points) {
             p2 = p;
         }
     if (wide == 0.0) return Flatness::Line;
+    // In the plane, or within a millionth of the mesh's size of it: a flat mesh that passed
+    // through another tool's float formatting is still flat (CGAL's plane.off, jittered by
+    // 1e-7, failed deep inside the self-intersection repair).
+    const glm::dvec3 normal = glm::normalize(glm::cross(axis, vec(p2) - vec(p0)));
+    const double tolerance = 1e-6 * std::sqrt(far);
     for (const Point& p : points)
-        if (!CGAL::coplanar(p0, p1, p2, p)) return Flatness::Solid;
+        if (std::abs(glm::dot(normal, vec(p) - vec(p0))) > tolerance && !CGAL::coplanar(p0, p1, p2, p))
+            return Flatness::Solid;
     return Flatness::Plane;
 }
 
@@ -446,10 +463,9 @@ std::size_t removeOppositePairs(std::vector<Polygon>& polygons) {
             ++i;
         }
     if (pairs == 0) return 0;
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < polygons.size(); ++i)
-        if (!remove[i]) polygons[out++] = std::move(polygons[i]);
-    polygons.resize(out);
+    // Not polygons[out++] = std::move(polygons[i]): before the first removed face out == i,
+    // and a vector moved onto itself is left empty (libstdc++), which crashed analyse().
+    std::erase_if(polygons, [&](const Polygon& p) { return remove[std::size_t(&p - polygons.data())]; });
     return pairs;
 }
 
@@ -891,7 +907,7 @@ MeshReport inspect(const Mesh& mesh, std::optional<bool> selfIntersecting) {
             r.selfIntersecting = PMP::does_self_intersect(toSurfaceMesh(soup));
         }
     } catch (const std::exception& e) {
-        throw InputError(format("the geometric checks failed on this mesh: {}", oneLine(e.what())));
+        throw InputError(format("the geometric checks failed on this mesh: {}", inOurWords(e)));
     }
     return r;
 }
@@ -1169,7 +1185,7 @@ std::vector<std::string> orientMesh(Mesh& mesh) {
         shells = findShells(sm);
         reverseShell = shellsToReverse(shells);
     } catch (const std::exception& e) {
-        throw InputError(format("orienting the mesh failed: {}", oneLine(e.what())));
+        throw InputError(format("orienting the mesh failed: {}", inOurWords(e)));
     }
 
     // What changed, per shell: a shell turned as a whole faced the wrong way; triangles
@@ -1245,8 +1261,7 @@ Mesh repairMesh(const Mesh& mesh, RepairReport* report) {
     } catch (const InputError&) {
         throw;
     } catch (const std::exception& e) {
-        // CGAL reports failed assertions and internal errors as exceptions (CGAL::Failure_exception).
-        throw InputError(format("the repair failed while {}: CGAL: {}", stage, oneLine(e.what())));
+        throw InputError(format("the repair failed while {}: {}", stage, inOurWords(e)));
     }
 }
 

@@ -400,7 +400,18 @@ TEST(Repair, MeshesWithoutVolumeAreRefused) {
     doubleSheet.indices.insert(doubleSheet.indices.end(), {0, 2, 1, 0, 3, 2});
     Mesh slanted = sheet;  // flat up to float rounding, not exactly: closed by filling, then too thin
     for (glm::vec3& p : slanted.positions) p = glm::vec3(p.x, p.y + 0.3f * p.x, 0.7f * p.x - p.y);
-    for (const Mesh& m : {triangle, sheet, doubleSheet, slanted}) {
+    // A grid jittered off its plane by a ten-millionth of its size, as another tool's float
+    // formatting leaves one (CGAL's plane.off so failed inside the self-intersection repair).
+    Mesh jittered;
+    for (int i = 0; i <= 8; ++i)
+        for (int j = 0; j <= 8; ++j)
+            jittered.positions.emplace_back(float(i), float(j), 1e-6f * float((i * 7 + j * 3) % 5) - 2e-6f);
+    for (std::uint32_t i = 0; i < 8; ++i)
+        for (std::uint32_t j = 0; j < 8; ++j) {
+            const std::uint32_t a = i * 9 + j;
+            jittered.indices.insert(jittered.indices.end(), {a, a + 9, a + 10, a, a + 10, a + 1});
+        }
+    for (const Mesh& m : {triangle, sheet, doubleSheet, slanted, jittered}) {
         try {
             repairMesh(m);
             ADD_FAILURE() << "a flat mesh was repaired";
