@@ -259,10 +259,8 @@ bool usesVeryHighPivots(const VatSettings& settings) {
     return settings.preset == VatPreset::Unreal && !settings.fullPrecisionUvs;
 }
 
-// The pivot as the Unreal material decodes TEXCOORD_2/3 (Houdini axes, metres): how far the
-// encoding moved it.
-double veryHighError(const glm::dvec3& p) {
-    const auto [a, b] = veryHighPivot(p);
+// The pivot the Unreal material decodes from Very High UVs (Houdini axes, metres).
+glm::dvec3 decodeVeryHigh(const glm::vec2& a, const glm::vec2& b) {
     const auto join = [](float hi, float lo) {  // the material's "Decode Magnitude"
         const std::uint32_t h = Imath::half(hi).bits(), l = Imath::half(lo).bits();
         const std::uint32_t bits = ((((h & 0x8000u) | ((h << 2) & 0x7FF8u))) << 16) | (((l & 0x8000u) | ((l << 2) & 0x7FF8u)) << 3);
@@ -270,16 +268,15 @@ double veryHighError(const glm::dvec3& p) {
         std::memcpy(&f, &bits, 4);
         return double(f);
     };
-    const glm::dvec3 decoded = std::abs(b.y) < 2.0f
-                                   ? glm::dvec3(a.x, join(a.y, b.y), b.x)
-                                   : glm::dvec3(a.x, std::sqrt(std::max(0.0, 1.0 - double(a.x) * a.x - double(b.x) * b.x)), b.x) *
-                                         join(a.y, b.y);
-    return glm::distance(decoded, p);
+    if (std::abs(b.y) < 2.0f) return {a.x, join(a.y, b.y), b.x};
+    return glm::dvec3(a.x, std::sqrt(std::max(0.0, 1.0 - double(a.x) * a.x - double(b.x) * b.x)), b.x) * join(a.y, b.y);
 }
 
 // The mesh at frame 0, each piece with its lookup texel (TEXCOORD_1) and pivot
-// (TEXCOORD_2/3).
-void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, bool veryHigh) {
+// (TEXCOORD_2/3). Returns how far the Very High UVs moved the farthest-moved pivot (m; 0
+// for the unencoded form).
+double appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout& L, bool veryHigh) {
+    double pivotError = 0.0;
     for (std::size_t j = 0; j < animation.pieces.size(); ++j) {
         Mesh piece = animation.pieces[j];
         const glm::dquat rest = orientation(animation.transforms, j);
@@ -290,12 +287,14 @@ void appendPieceMeshes(Mesh& out, const VatAnimation& animation, const VatLayout
         const glm::vec2 lookup(float((double(j % std::size_t(L.width)) + 0.5) / L.width),
                                float((double(j / std::size_t(L.width)) + 0.5) / L.height));
         const auto [uv2, uv3] = pivotUvs(pivot, veryHigh);
+        if (veryHigh) pivotError = std::max(pivotError, glm::distance(decodeVeryHigh(uv2, uv3), pivot));
         piece.uv1.assign(count, lookup);
         piece.uv2.assign(count, uv2);
         piece.uv3.assign(count, uv3);
         piece.pieceIds.assign(count, std::uint32_t(j));
         appendMesh(out, piece, glm::mat4(1.0f));
     }
+    return pivotError;
 }
 
 // The bounds on the 0.1 grid the Labs shaders expect, and with the Labs codes for the
@@ -448,6 +447,12 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     Vat vat;
     vat.layout = vatLayout(n, animation.frames, settings.maxWidth);
     checkAnimation(animation, n);
+    if (settings.fullPrecisionUvs && settings.preset != VatPreset::Unreal)
+        throw InputError(format("--full-precision-uvs is for the unreal preset (the {} preset's pivots are exact already)",
+                                vatPresetName(settings.preset)));
+    if (settings.preset != VatPreset::Native && vat.layout.rowsPerFrame > kLabsMaxRowsPerFrame)
+        throw InputError(format("{} rows per frame: the Labs bounds carry at most {} (a larger --max-width)",
+                                vat.layout.rowsPerFrame, kLabsMaxRowsPerFrame));
     const Engine engine = engineOf(settings.preset);
     const std::size_t texels = std::size_t(vat.layout.width) * std::size_t(vat.layout.height);
     vat.position.assign(texels * 4, 0.0f);
@@ -457,19 +462,9 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::vector<double> radius = pieceRadii(animation.pieces);
     for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
-    if (settings.fullPrecisionUvs && settings.preset != VatPreset::Unreal)
-        throw InputError(format("--full-precision-uvs is for the unreal preset (the {} preset's pivots are exact already)",
-                                vatPresetName(settings.preset)));
-    if (settings.preset != VatPreset::Native && vat.layout.rowsPerFrame > kLabsMaxRowsPerFrame)
-        throw InputError(format("{} rows per frame: the Labs bounds carry at most {} (a larger --max-width)",
-                                vat.layout.rowsPerFrame, kLabsMaxRowsPerFrame));
-    if (usesVeryHighPivots(settings)) {
-        // A pivot the UVs carry a little off moves every vertex of its piece by as much.
-        for (std::size_t j = 0; j < n; ++j)
-            vat.maxPivotError = std::max(vat.maxPivotError, veryHighError(position(animation.transforms, j)));
-        vat.maxVertexError += vat.maxPivotError;
-    }
-    appendPieceMeshes(vat.mesh, animation, vat.layout, usesVeryHighPivots(settings));
+    // A pivot the UVs carry a little off moves every vertex of its piece by as much.
+    vat.maxPivotError = appendPieceMeshes(vat.mesh, animation, vat.layout, usesVeryHighPivots(settings));
+    vat.maxVertexError += vat.maxPivotError;
     vat.mesh.name = settings.name;
     const EngineBounds bounds = engineBounds(vat, engine);
     if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);
