@@ -31,19 +31,15 @@ fi
 exe=$1
 work=$2
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
-browser_dir=${DAWNFORGE_CONSUMERS_BROWSER:-$here/browser}
-chromium=${CHROMIUM:-/usr/bin/chromium}
+# shellcheck source=browser/common.sh
+source "$here/browser/common.sh"
+browser_dir=$BROWSER_DIR
 clear=203040
 started=$SECONDS
 
-skip() { echo "consumers.tiles: SKIP: $*"; exit 77; }
 die() { echo "tiles.sh: FAIL: $*" >&2; exit 1; }
 
-command -v node >/dev/null || skip "node is not installed"
-[[ -x $chromium ]] || skip "chromium is not installed at $chromium (apt-get install chromium, or set CHROMIUM)"
-for m in three 3d-tiles-renderer puppeteer-core; do
-  [[ -d $browser_dir/node_modules/$m ]] || skip "$browser_dir/node_modules/$m is missing (./run installs it: npm ci in $browser_dir)"
-done
+need_browser
 [[ -x $exe ]] || die "$exe is not an executable"
 
 rm -rf "$work"

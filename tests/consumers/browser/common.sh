@@ -16,7 +16,7 @@ need_browser() {
     [ -f "$BROWSER_DIR/node_modules/$p/package.json" ] || missing+=("npm package $p")
   done
   if ((${#missing[@]})); then
-    echo "skipped: ${missing[*]} not installed (./run installs them: npm ci in tests/consumers/browser)"
+    echo "skipped: ${missing[*]} not installed (./run installs them: chromium from Debian, the npm packages with npm ci in tests/consumers/browser)"
     exit 77
   fi
 }

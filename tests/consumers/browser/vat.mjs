@@ -247,10 +247,8 @@ function multiply([ax, ay, az, aw], [bx, by, bz, bw]) {
 }
 const conjugate = ([x, y, z, w]) => [-x, -y, -z, w];
 
-// A vertex at rest moved by piece j's pose at `frame`.
-function referenceAt(sim, frame, j, rest) {
-  const { p, q: [qx, qy, qz, qw] } = sim.pose(frame, j);
-  const p0 = sim.position(0, j);
+// A vertex at rest moved by its piece's `pose` (Simulation.pose); p0 is the piece's rest pivot.
+function moved({ p, q: [qx, qy, qz, qw] }, p0, rest) {
   const v = [0, 1, 2].map((c) => rest[c] - p0[c]);
   // v + 2 q × (q × v + w v), written out
   const cx = qy * v[2] - qz * v[1] + qw * v[0], cy = qz * v[0] - qx * v[2] + qw * v[1], cz = qx * v[1] - qy * v[0] + qw * v[2];
@@ -273,8 +271,9 @@ function compare(engine, pieceIds, rest, decoded, sim, meta, frames) {
         if (Math.hypot(...got) > 1e-6) dataOffOrigin += 1;
         continue;
       }
-      const want = toEngine[engine](referenceAt(sim, k, piece, rest.subarray(3 * i, 3 * i + 3)));
-      worstPath = Math.max(worstPath, sim.pose(k, piece).pathMismatch ?? 0);
+      const pose = sim.pose(k, piece);
+      const want = toEngine[engine](moved(pose, sim.position(0, piece), rest.subarray(3 * i, 3 * i + 3)));
+      worstPath = Math.max(worstPath, pose.pathMismatch ?? 0);
       const error = Math.hypot(got[0] - want[0], got[1] - want[1], got[2] - want[2]);
       if (!(error <= worst)) [worst, worstVertex] = [error, i];  // NaN counts as worst
     }
