@@ -67,87 +67,122 @@ double principalStress(const StressLink& l, const glm::dvec3& force, const glm::
 }  // namespace
 
 struct BondStressModel::Factor {
+    std::vector<int> local;  // per member of the group: its first row
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
 };
 
 BondStressModel::BondStressModel(std::vector<StressNode> nodes, std::vector<StressLink> links)
-    : nodes_(std::move(nodes)), links_(std::move(links)), broken_(links_.size(), false) {
-    for (const StressLink& l : links_)
+    : nodes_(std::move(nodes)), links_(std::move(links)), nodeLinks_(nodes_.size()), broken_(links_.size(), false) {
+    for (std::size_t i = 0; i < links_.size(); ++i) {
+        const StressLink& l = links_[i];
         if (l.a >= nodes_.size() || l.b >= nodes_.size() || l.a == l.b || !(l.area > 0.0))
             throw InputError("bond stress model: a bond joins missing pieces, a piece to itself, or has no area");
+        nodeLinks_[l.a].push_back(std::uint32_t(i));
+    }
 }
 
 BondStressModel::~BondStressModel() = default;
 
 void BondStressModel::breakLink(std::size_t link) {
-    if (!broken_[link]) broken_[link] = true, factor_.reset();
+    if (broken_[link]) return;
+    broken_[link] = true;
+    if (!group_.empty()) factors_.erase(group_[links_[link].a]);  // the root of its group when last grouped
+    grouped_ = false;
 }
 
-// Groups (union-find over the unbroken links, smallest index first), then the stiffness:
-// each link's 12 × 12 block, and every held node, and the first node of every group with
-// none, pinned by a penalty a million times the stiffest diagonal.
-void BondStressModel::factor() {
+// Groups: union-find over the unbroken links, the smallest index first. A group that no
+// link break touched keeps its root, and so its factor.
+void BondStressModel::group() {
     const std::size_t n = nodes_.size();
     UnionFind groups(n);
     for (std::size_t i = 0; i < links_.size(); ++i)
         if (!broken_[i]) groups.unite(links_[i].a, links_[i].b);
     group_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) group_[i] = groups.find(std::uint32_t(i));
-    groupHeld_.assign(n, false);
-    for (std::size_t i = 0; i < n; ++i)
-        if (nodes_[i].held) groupHeld_[group_[i]] = true;
-
-    std::vector<Eigen::Triplet<double>> triplets;
-    std::vector<double> diagonal(6 * n, 0.0);
-    for (std::size_t i = 0; i < links_.size(); ++i) {
-        if (broken_[i]) continue;
-        const StressLink& l = links_[i];
-        const auto [jt, jr] = jacobians(l, nodes_);
-        const Stiffness k = stiffnessOf(l);
-        const Link12 block = k.translation * jt.transpose() * jt + k.rotation * jr.transpose() * jr;
-        const std::size_t base[2] = {6 * std::size_t(l.a), 6 * std::size_t(l.b)};
-        for (int r = 0; r < 12; ++r)
-            for (int c = 0; c < 12; ++c)
-                if (block(r, c) != 0.0) triplets.emplace_back(int(base[r / 6] + r % 6), int(base[c / 6] + c % 6), block(r, c));
-        for (int r = 0; r < 12; ++r) diagonal[base[r / 6] + r % 6] += block(r, r);
+    members_.assign(n, {});
+    for (std::size_t i = 0; i < n; ++i) {
+        group_[i] = groups.find(std::uint32_t(i));
+        members_[group_[i]].push_back(std::uint32_t(i));
     }
-    const double penalty = 1e6 * std::max(1e-12, *std::max_element(diagonal.begin(), diagonal.end()));
-    for (std::size_t i = 0; i < n; ++i)
-        if (nodes_[i].held || (!groupHeld_[group_[i]] && group_[i] == i))
-            for (int k = 0; k < 6; ++k) triplets.emplace_back(int(6 * i + k), int(6 * i + k), penalty);
-    Eigen::SparseMatrix<double> stiffness(int(6 * n), int(6 * n));
-    stiffness.setFromTriplets(triplets.begin(), triplets.end());
-    factor_ = std::make_unique<Factor>();
-    factor_->ldlt.compute(stiffness);
-    if (factor_->ldlt.info() != Eigen::Success) throw std::runtime_error("bond stress model: the stiffness could not be factored");
+    grouped_ = true;
 }
 
-std::vector<double> BondStressModel::stresses(const NodeLoads& loads) {
-    if (!factor_) factor();
-    const std::size_t n = nodes_.size();
-    // Groups with no held node fall or fly as a whole: their own inertia balances the mean load.
-    std::vector<glm::dvec3> groupForce(n, glm::dvec3(0.0));
-    std::vector<double> groupMass(n, 0.0);
-    for (std::size_t i = 0; i < n; ++i)
-        if (!groupHeld_[group_[i]]) groupForce[group_[i]] += loads.force[i], groupMass[group_[i]] += nodes_[i].mass;
-    Vector rhs(6 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        glm::dvec3 f = loads.force[i];
-        const std::uint32_t g = group_[i];
-        if (!groupHeld_[g] && groupMass[g] > 0.0) f -= nodes_[i].mass * groupForce[g] / groupMass[g];
-        for (int k = 0; k < 3; ++k) rhs[Eigen::Index(6 * i + k)] = f[k], rhs[Eigen::Index(6 * i + 3 + k)] = loads.torque[i][k];
+// A group's stiffness: each link's 12 × 12 block, and every held node (or the first node
+// of a group with none) pinned by a penalty a million times the stiffest diagonal.
+std::unique_ptr<BondStressModel::Factor> BondStressModel::factor(std::uint32_t root) const {
+    const std::vector<std::uint32_t>& members = members_[root];
+    auto f = std::make_unique<Factor>();
+    f->local.resize(members.size());
+    std::map<std::uint32_t, int> row;  // node → its first row
+    for (std::size_t k = 0; k < members.size(); ++k) row[members[k]] = f->local[k] = int(6 * k);
+    std::vector<Eigen::Triplet<double>> triplets;
+    std::vector<double> diagonal(6 * members.size(), 0.0);
+    for (std::uint32_t node : members)
+        for (std::uint32_t i : nodeLinks_[node]) {
+            if (broken_[i]) continue;
+            const StressLink& l = links_[i];
+            const auto [jt, jr] = jacobians(l, nodes_);
+            const Stiffness k = stiffnessOf(l);
+            const Link12 block = k.translation * jt.transpose() * jt + k.rotation * jr.transpose() * jr;
+            const int base[2] = {row.at(l.a), row.at(l.b)};
+            for (int r = 0; r < 12; ++r)
+                for (int c = 0; c < 12; ++c)
+                    if (block(r, c) != 0.0) triplets.emplace_back(base[r / 6] + r % 6, base[c / 6] + c % 6, block(r, c));
+            for (int r = 0; r < 12; ++r) diagonal[std::size_t(base[r / 6] + r % 6)] += block(r, r);
+        }
+    const double penalty = 1e6 * std::max(1e-12, *std::max_element(diagonal.begin(), diagonal.end()));
+    const bool held = std::any_of(members.begin(), members.end(), [&](std::uint32_t i) { return nodes_[i].held; });
+    for (std::size_t k = 0; k < members.size(); ++k)
+        if (nodes_[members[k]].held || (!held && k == 0))
+            for (int d = 0; d < 6; ++d) triplets.emplace_back(int(6 * k) + d, int(6 * k) + d, penalty);
+    Eigen::SparseMatrix<double> stiffness(int(6 * members.size()), int(6 * members.size()));
+    stiffness.setFromTriplets(triplets.begin(), triplets.end());
+    f->ldlt.compute(stiffness);
+    if (f->ldlt.info() != Eigen::Success) throw std::runtime_error("bond stress model: the stiffness could not be factored");
+    return f;
+}
+
+// One group's links' stresses into `out`. A group with no held node falls or flies as a
+// whole: its own inertia balances its mean load.
+void BondStressModel::solve(std::uint32_t root, const NodeLoads& loads, std::vector<double>& out) {
+    const std::vector<std::uint32_t>& members = members_[root];
+    std::unique_ptr<Factor>& f = factors_[root];
+    if (!f) f = factor(root);
+    const bool held = std::any_of(members.begin(), members.end(), [&](std::uint32_t i) { return nodes_[i].held; });
+    glm::dvec3 mean(0.0);
+    double mass = 0.0;
+    for (std::uint32_t i : members) mean += loads.force[i], mass += nodes_[i].mass;
+    mean = held || !(mass > 0.0) ? glm::dvec3(0.0) : mean / mass;
+    Vector rhs(Eigen::Index(6 * members.size()));
+    for (std::size_t k = 0; k < members.size(); ++k) {
+        const glm::dvec3 force = loads.force[members[k]] - nodes_[members[k]].mass * mean;
+        for (int d = 0; d < 3; ++d)
+            rhs[Eigen::Index(6 * k + d)] = force[d], rhs[Eigen::Index(6 * k + 3 + d)] = loads.torque[members[k]][d];
     }
-    const Vector u = factor_->ldlt.solve(rhs);
+    const Vector u = f->ldlt.solve(rhs);
+    std::map<std::uint32_t, Eigen::Index> row;
+    for (std::size_t k = 0; k < members.size(); ++k) row[members[k]] = Eigen::Index(6 * k);
+    for (std::uint32_t node : members)
+        for (std::uint32_t i : nodeLinks_[node]) {
+            if (broken_[i]) continue;
+            const StressLink& l = links_[i];
+            const auto [jt, jr] = jacobians(l, nodes_);
+            Eigen::Matrix<double, 12, 1> ul;
+            ul << u.segment<6>(row.at(l.a)), u.segment<6>(row.at(l.b));
+            const Stiffness k = stiffnessOf(l);
+            const Eigen::Vector3d opening = -k.translation * (jt * ul), twist = -k.rotation * (jr * ul);
+            out[i] = principalStress(l, {opening.x(), opening.y(), opening.z()}, {twist.x(), twist.y(), twist.z()});
+        }
+}
+
+std::vector<double> BondStressModel::stresses(const NodeLoads& loads, const std::vector<bool>* active) {
+    if (!grouped_) group();
     std::vector<double> out(links_.size(), 0.0);
-    for (std::size_t i = 0; i < links_.size(); ++i) {
-        if (broken_[i]) continue;
-        const StressLink& l = links_[i];
-        const auto [jt, jr] = jacobians(l, nodes_);
-        Eigen::Matrix<double, 12, 1> ul;
-        ul << u.segment<6>(Eigen::Index(6 * l.a)), u.segment<6>(Eigen::Index(6 * l.b));
-        const Stiffness k = stiffnessOf(l);
-        const Eigen::Vector3d opening = -k.translation * (jt * ul), twist = -k.rotation * (jr * ul);
-        out[i] = principalStress(l, {opening.x(), opening.y(), opening.z()}, {twist.x(), twist.y(), twist.z()});
+    std::vector<bool> solved(nodes_.size(), false);
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+        const std::uint32_t root = group_[i];
+        if (solved[root] || (active && !(*active)[i]) || members_[root].size() < 2) continue;
+        solved[root] = true;
+        solve(root, loads, out);
     }
     return out;
 }

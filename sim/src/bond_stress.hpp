@@ -8,14 +8,16 @@
 // section of the bond's area A and radius r). Nodes resting on the ground are held. The
 // loads split between bonds in proportion to their stiffness, as in an elastic body, so a
 // sliver carries next to nothing and the answer is the same every time (NVIDIA Blast's stress
-// solver works on the same idea). Eigen's sparse LDLᵀ factors the stiffness once per set of
-// bonds; each evaluation is one solve. Eigen stays inside bond_stress.cpp.
+// solver works on the same idea). Each group of nodes joined by unbroken links is its own
+// system: Eigen's sparse LDLᵀ factors a group's stiffness once per set of its links, and each
+// evaluation is one solve per group loaded. Eigen stays inside bond_stress.cpp.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
@@ -47,7 +49,7 @@ public:
     BondStressModel(const BondStressModel&) = delete;
     BondStressModel& operator=(const BondStressModel&) = delete;
 
-    // A broken link carries nothing from now on (the next evaluation factors again).
+    // A broken link carries nothing from now on (its group is factored again when next solved).
     void breakLink(std::size_t link);
 
     // Each link's largest principal stress under the loads (0 for a broken link): the
@@ -57,18 +59,24 @@ public:
     // strength (Rankine); a bond only pressed reads 0. A group
     // of nodes joined by links with no held node is balanced by its own inertia (the mean
     // acceleration of the group is taken out of its loads) and held at its first node.
-    std::vector<double> stresses(const NodeLoads& loads);
+    // Groups are independent: with `active` (per node), only the groups with an active node
+    // are solved, and the links of the others read 0.
+    std::vector<double> stresses(const NodeLoads& loads, const std::vector<bool>* active = nullptr);
 
 private:
     struct Factor;
-    void factor();
+    void group();
+    std::unique_ptr<Factor> factor(std::uint32_t root) const;
+    void solve(std::uint32_t root, const NodeLoads& loads, std::vector<double>& out);
 
     std::vector<StressNode> nodes_;
     std::vector<StressLink> links_;
+    std::vector<std::vector<std::uint32_t>> nodeLinks_;  // per node: the links with it as `a`
     std::vector<bool> broken_;
-    std::vector<std::uint32_t> group_;     // per node: the smallest node index of its group
-    std::vector<bool> groupHeld_;          // per node index that is a group: the group has a held node
-    std::unique_ptr<Factor> factor_;       // null when the links changed since the last factoring
+    bool grouped_ = false;                               // group_ and members_ are up to date
+    std::vector<std::uint32_t> group_;                   // per node: the smallest node index of its group
+    std::vector<std::vector<std::uint32_t>> members_;    // per group root: its nodes, ascending
+    std::map<std::uint32_t, std::unique_ptr<Factor>> factors_;  // per group root, while its links are unchanged
 };
 
 }  // namespace dawnforge::sim

@@ -62,6 +62,30 @@ TEST(BondStress, AFallingGroupCarriesNoWeightAndABrokenBondNothing) {
     EXPECT_GT(after[1], 4000.0 / 0.2);  // all the pull, and the bending of carrying it off-centre
 }
 
+// Groups are separate systems: solving only the loaded one gives its bonds the same stresses
+// as solving all, and the others read 0; a break in one group leaves the other's as they were.
+TEST(BondStress, GroupsAreSolvedOnTheirOwnAndOnlyWhenActive) {
+    // Two columns, each a held node with one above it, and a third node bonded to the second column.
+    BondStressModel model({{{0, 0, 0}, 10.0, true}, {{0, 1, 0}, 10.0, false}, {{5, 0, 0}, 10.0, true}, {{5, 1, 0}, 10.0, false},
+                           {{5, 2, 0}, 10.0, false}},
+                          {{0, 1, {0, 0.5, 0}, {0, 1, 0}, 0.5}, {2, 3, {5, 0.5, 0}, {0, 1, 0}, 0.5}, {3, 4, {5, 1.5, 0}, {0, 1, 0}, 0.25}});
+    const NodeLoads loads{{glm::dvec3(0.0), {0, 1000, 0}, glm::dvec3(0.0), {0, 2000, 0}, {0, 500, 0}}, std::vector<glm::dvec3>(5)};
+    const std::vector<double> all = model.stresses(loads);
+    EXPECT_NEAR(all[0], 2000.0, 1e-3);
+    EXPECT_NEAR(all[1], 2500.0 / 0.5, 1e-3);
+    EXPECT_NEAR(all[2], 500.0 / 0.25, 1e-3);
+    const std::vector<bool> second{false, false, false, false, true};
+    const std::vector<double> some = model.stresses(loads, &second);
+    EXPECT_EQ(some[0], 0.0);
+    EXPECT_EQ(some[1], all[1]);
+    EXPECT_EQ(some[2], all[2]);
+    model.breakLink(2);
+    const std::vector<double> after = model.stresses(loads);
+    EXPECT_EQ(after[0], all[0]);
+    EXPECT_NEAR(after[1], 2000.0 / 0.5, 1e-3);  // node 4 no longer hangs on it
+    EXPECT_EQ(after[2], 0.0);
+}
+
 TEST(BondStress, ABondToAMissingPieceIsAnInputError) {
     EXPECT_THROW(BondStressModel({{{0, 0, 0}, 1.0, true}}, {{0, 1, {0, 0, 0}, {0, 1, 0}, 1.0}}), dawnforge::InputError);
     EXPECT_THROW(BondStressModel({{{0, 0, 0}, 1.0, true}, {{0, 1, 0}, 1.0, false}}, {{0, 1, {0, 0, 0}, {0, 1, 0}, 0.0}}),
