@@ -101,11 +101,7 @@ sim::SimulationResult simulateBuilding(const DemoOptions& options, const procgen
                                        const CommonOptions& common) {
     sim::SimulationSettings sim;
     sim.frames = 240;
-    double lowest = building.bounds.min.y;
-    for (const Mesh& ground : building.ground) lowest = std::min(lowest, computeBounds(ground.positions).min.y);
-    sim.colliders = building.ground;
-    sim.colliders.insert(sim.colliders.end(), building.neighbours.begin(), building.neighbours.end());
-    sim.groundHeight = lowest - 0.05;
+    placeInCity(building, sim);
     sim::Projectile ball;
     ball.target = impactPoint(building);
     ball.direction = glm::dvec3(0.0, 0.0, -1.0);

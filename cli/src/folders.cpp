@@ -1,6 +1,7 @@
 #include "folders.hpp"
 
 #include <dawnforge/core/atomic_file.hpp>
+#include <dawnforge/core/mesh.hpp>
 #include <dawnforge/core/format.hpp>
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/gltf.hpp>
@@ -8,6 +9,7 @@
 #include <dawnforge/sim/fracture_io.hpp>
 #include <dawnforge/sim/rigidbody_io.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -60,6 +62,18 @@ void writeSimulationFolder(const sim::SimulationResult& result, const sim::Simul
     const std::vector<std::byte> fragments = readBinaryFile(fractureDir / "fragments.glb");
     sim::writeSimulation(dir, result, settings, pieces, fractureDir.string());
     writeFileAtomically(dir / "fragments.glb", fragments);
+}
+
+void placeInCity(procgen::CityBuilding building, sim::SimulationSettings& settings) {
+    double lowest = building.bounds.min.y;
+    for (Mesh& ground : building.ground) {
+        lowest = std::min(lowest, computeBounds(ground.positions).min.y);
+        settings.colliders.push_back(std::move(ground));
+    }
+    for (Mesh& shell : building.neighbours) settings.colliders.push_back(std::move(shell));
+    if (!settings.groundHeight) settings.groundHeight = lowest - 0.05;
+    settings.support = sim::Support{building.bounds.min.y, {building.bounds.min.x, building.bounds.min.z},
+                                    {building.bounds.max.x, building.bounds.max.z}};
 }
 
 }  // namespace dawnforge::cli

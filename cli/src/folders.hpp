@@ -5,6 +5,7 @@
 
 #include <dawnforge/bake/bake.hpp>
 #include <dawnforge/procgen/city.hpp>
+#include <dawnforge/procgen/city_building.hpp>
 #include <dawnforge/sim/fracture.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
@@ -32,5 +33,12 @@ void writeFractureFolder(const sim::FractureResult& result, const sim::FractureS
 void writeSimulationFolder(const sim::SimulationResult& result, const sim::SimulationSettings& settings,
                            std::span<const sim::RigidPiece> pieces, const std::filesystem::path& fractureDir,
                            const std::filesystem::path& dir);
+
+// A city building's simulation in its city: the ground meshes (streets, kerbs, the sea floor)
+// and the neighbours' shells become static colliders, the building stands on a support at its
+// base over its footprint's bounds, and the ground plane goes 5 cm under the lowest ground
+// point as a backstop (unless the settings give its height). `simulate` of a building's
+// fracture and the demo both use it.
+void placeInCity(procgen::CityBuilding building, sim::SimulationSettings& settings);
 
 }  // namespace dawnforge::cli

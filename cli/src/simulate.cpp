@@ -48,10 +48,7 @@ sim::SimulationSettings settingsOf(const SimulateOptions& o) {
     return s;
 }
 
-// A city building's fracture falls into its city: the other buildings' LOD1 shells near it
-// and the ground (streets, kerbs, the sea floor) become static colliders, the building stands
-// on a support at its base over its footprint's bounds, and the ground plane goes under the
-// lowest ground point as a backstop. Returns the neighbours added.
+// A city building's fracture falls into its city (placeInCity). Returns the neighbours added.
 std::size_t addCityColliders(const SimulateOptions& options, const sim::FractureFolder& fracture,
                              sim::SimulationSettings& settings) {
     if (fracture.building < 0 || options.noCity) return 0;
@@ -60,16 +57,9 @@ std::size_t addCityColliders(const SimulateOptions& options, const sim::Fracture
         throw InputError(format("{}: the fractured building's city folder {} is not there; give it with --city DIR, or "
                                 "--no-city", (options.fractureDir / "fracture.json").string(), city.string()));
     procgen::CityBuilding building = procgen::loadCityBuilding(city, fracture.building);
-    double lowest = building.bounds.min.y;
-    for (Mesh& ground : building.ground) {
-        lowest = std::min(lowest, computeBounds(ground.positions).min.y);
-        settings.colliders.push_back(std::move(ground));
-    }
-    for (Mesh& shell : building.neighbours) settings.colliders.push_back(std::move(shell));
-    if (!options.settings.groundHeight) settings.groundHeight = lowest - 0.05;
-    settings.support = sim::Support{building.bounds.min.y, {building.bounds.min.x, building.bounds.min.z},
-                                    {building.bounds.max.x, building.bounds.max.z}};
-    return building.neighbours.size();
+    const std::size_t neighbours = building.neighbours.size();
+    placeInCity(std::move(building), settings);
+    return neighbours;
 }
 
 int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
@@ -90,7 +80,8 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("simulated %zu pieces for %d frames at %g fps (%d substeps) in %.2f s\n", result.pieces,
                 result.frames, result.fps, settings.substeps, seconds);
-    std::printf("  %zu of %zu bonds broke; fastest piece %.2f m/s\n", result.brokenBonds, result.bonds, result.maxSpeed);
+    std::printf("  %zu of %zu bonds broke; %zu bodies (%zu fixed where they stood); fastest piece %.2f m/s\n",
+                result.brokenBonds, result.bonds, result.actors, result.fixedActors, result.maxSpeed);
     if (fracture.building >= 0 && !options.noCity)
         std::printf("  in its city: the ground and %zu neighbouring buildings as colliders\n", neighbours);
     std::printf("  wrote %s, transforms.bin, turns.bin and a copy of fragments.glb\n",
@@ -132,7 +123,8 @@ void addTriggerOptions(CLI::App& cmd, SimulateOptions& o) {
     cmd.add_option("--projectile-radius", o.projectile.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
     addPointOption(cmd, "--explosion", o.explosionCenter, "Push pieces away from this point X,Y,Z (m)");
     cmd.add_option("--explosion-radius", o.explosion.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
-    cmd.add_option("--explosion-impulse", o.explosion.impulse, "N·s at the centre, falling off as (1 - d/r)^2")
+    cmd.add_option("--explosion-impulse", o.explosion.impulse,
+                   "N·s at the centre on a piece of the mean mass, falling off as (1 - d/r)^2 and as (m / mean)^(2/3)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd.add_flag("--collapse", o.settings.collapse, "Every bond breaks at the trigger time (gravity collapse)");
 }
@@ -148,6 +140,9 @@ Command addSimulate(CLI::App& app, CommonOptions& common) {
     addSolverOptions(*cmd, o->settings);
     addTriggerOptions(*cmd, *o);
     cmd->add_flag("--no-ground", o->noGround, "No ground plane");
+    cmd->add_flag("!--no-anchor", o->settings.anchor,
+                  "Glued pieces resting on the ground or the support do not hold their cluster there: it rests as one "
+                  "moving body");
     cmd->add_option("--ground-height", o->settings.groundHeight,
                     "Ground plane height (m); default the lowest point of the pieces");
     cmd->add_option("--collider", o->colliders, "Static collider mesh (any format inspect reads), world space; repeatable");

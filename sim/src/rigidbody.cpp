@@ -1,8 +1,9 @@
 // Rigid-body destruction with Bullet 3.24 (the only Bullet translation unit).
 //
-// Determinism: one single-threaded btDiscreteDynamicsWorld, bodies and constraints added
-// in piece / bond order, a fixed step passed to stepSimulation with maxSubSteps = 0 (no
-// time accumulator), the solver's order randomisation left off. Hulls are built in
+// Determinism: one single-threaded btDiscreteDynamicsWorld, actors added in the order of
+// their smallest piece (a split's too), a fixed step passed to stepSimulation with
+// maxSubSteps = 0 (no time accumulator), the solver's order randomisation left off; a step
+// taken again after a break starts from the bodies' saved states. Hulls are built in
 // parallel but each depends on its piece alone.
 #include <dawnforge/sim/rigidbody.hpp>
 
@@ -14,6 +15,12 @@
 #include <dawnforge/core/union_find.hpp>
 
 #include <btBulletDynamicsCommon.h>
+#include <BulletCollision/CollisionDispatch/btCompoundCollisionAlgorithm.h>
+#include <BulletCollision/CollisionDispatch/btCompoundCompoundCollisionAlgorithm.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 #include <LinearMath/btConvexHullComputer.h>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -83,29 +90,48 @@ Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, doub
     return hull;
 }
 
-// Pieces glued into one cluster (connected through unbroken bonds) move as one: they do
-// not collide with each other. Besides being right, this skips the narrow phase for the
-// thousands of neighbouring pairs in an intact structure, most of the cost of a step.
-// User indices of bodies that are not pieces.
+// User indices of bodies: an actor's is its index (>= 0); the others' say what they are.
 constexpr int kStatic = -1;   // ground plane, projectile
 constexpr int kSupport = -2;  // SimulationSettings::support
 constexpr int kCollider = -3; // SimulationSettings::colliders
 
-class ClusterDispatcher : public btCollisionDispatcher {
+// Pairs of pieces whose hulls overlap at rest. A piece's convex hull covers its hollows (a roof
+// shell's hull fills the attic, a wall's its windows), so its neighbours' hulls can lie deep
+// inside it: such a pair never collides, or the first time they came apart the solver would
+// push them out of each other (a 45 t roof shot up at 21 m/s, 13 MJ from nowhere). A hull
+// shape's user index is its piece.
+struct HullOverlaps {
+    std::vector<std::uint64_t> pairs;  // (smaller piece << 32) | larger, ascending
+
+    bool contains(int a, int b) const {
+        if (a < 0 || b < 0 || a == b) return false;
+        const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
+        return std::binary_search(pairs.begin(), pairs.end(), key);
+    }
+};
+
+// Bullet asks a global function about each pair of a compound's children; it reads the running
+// simulation's overlaps (one world per thread).
+thread_local const HullOverlaps* tOverlaps = nullptr;
+
+bool childrenCollide(const btCollisionShape* a, const btCollisionShape* b) {
+    return !tOverlaps || !tOverlaps->contains(a->getUserIndex(), b->getUserIndex());
+}
+
+class SupportDispatcher : public btCollisionDispatcher {
 public:
     using btCollisionDispatcher::btCollisionDispatcher;
-    std::vector<int> cluster;  // per piece (body user index)
     std::optional<Support> support;
 
     // Bullet asks again at every step for every overlapping pair, so this may change with
-    // where the pieces are.
+    // where the actors are.
     bool needsCollision(const btCollisionObject* a, const btCollisionObject* b) override {
         const int i = a->getUserIndex(), j = b->getUserIndex();
-        if (i >= 0 && j >= 0 && cluster[std::size_t(i)] == cluster[std::size_t(j)]) return false;
+        if (!childrenCollide(a->getCollisionShape(), b->getCollisionShape())) return false;  // two lone pieces
         if (support && (i == kSupport || j == kSupport || i == kCollider || j == kCollider)) {
-            const btCollisionObject* piece = i >= 0 ? a : j >= 0 ? b : nullptr;
-            if (piece) {
-                const btVector3& p = piece->getWorldTransform().getOrigin();
+            const btCollisionObject* actor = i >= 0 ? a : j >= 0 ? b : nullptr;
+            if (actor) {
+                const btVector3& p = actor->getWorldTransform().getOrigin();
                 const bool over = p.x() >= support->min.x && p.x() <= support->max.x && p.z() >= support->min.y &&
                                   p.z() <= support->max.y;
                 if (over != (i == kSupport || j == kSupport)) return false;  // the support holds it, or the colliders do
@@ -114,7 +140,7 @@ public:
         return btCollisionDispatcher::needsCollision(a, b);
     }
 
-    // Contacts of pairs that no longer collide (a piece that left the support, or came over
+    // Contacts of pairs that no longer collide (an actor that left the support, or came over
     // it) would stay in their manifolds and still push: empty them.
     void dropStaleContacts() {
         if (!support) return;
@@ -126,32 +152,45 @@ public:
     }
 };
 
+// Bullet keeps the contacts it predicts for fast bodies (CCD) in manifolds of its own until the
+// next step, and removing a body leaves them pointing at it: an actor's body is removed only
+// after they are released (the next step makes them again).
+class DynamicsWorld : public btDiscreteDynamicsWorld {
+public:
+    using btDiscreteDynamicsWorld::btDiscreteDynamicsWorld;
+    void removeActorBody(btRigidBody* body) {
+        releasePredictiveContacts();
+        removeRigidBody(body);
+    }
+};
+
 // Everything Bullet needs alive while the world runs. Members are declared so that the
-// world is destroyed first; constraints are removed from the bodies before that.
+// world is destroyed first; the bodies are removed from it before that.
 struct World {
-    std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    std::vector<std::unique_ptr<btConvexHullShape>> hulls;  // per piece
+    std::vector<std::unique_ptr<btCollisionShape>> shapes;  // of the other bodies
     std::vector<std::unique_ptr<btTriangleIndexVertexArray>> triangleArrays;
     std::vector<std::vector<int>> colliderIndices;
     std::vector<std::vector<btScalar>> colliderVertices;
-    std::vector<std::unique_ptr<btRigidBody>> bodies;  // pieces first (index = piece), then ground, colliders, projectile
-    std::vector<std::unique_ptr<btTypedConstraint>> constraints;
+    std::vector<std::unique_ptr<btRigidBody>> bodies;        // ground, support, colliders, projectile
+    std::vector<std::unique_ptr<btCompoundShape>> compounds;  // per actor; null for a lone piece
+    std::vector<std::unique_ptr<btRigidBody>> actors;         // per actor; null once it has split
     btDefaultCollisionConfiguration configuration;
-    ClusterDispatcher dispatcher{&configuration};
+    SupportDispatcher dispatcher{&configuration};
     btDbvtBroadphase broadphase;
     btSequentialImpulseConstraintSolver solver;
-    std::unique_ptr<btDiscreteDynamicsWorld> world =
-        std::make_unique<btDiscreteDynamicsWorld>(&dispatcher, &broadphase, &solver, &configuration);
+    std::unique_ptr<DynamicsWorld> world = std::make_unique<DynamicsWorld>(&dispatcher, &broadphase, &solver, &configuration);
 
     ~World() {
-        for (auto& c : constraints) world->removeConstraint(c.get());
+        for (auto& b : actors)
+            if (b) world->removeRigidBody(b.get());
         for (auto& b : bodies) world->removeRigidBody(b.get());
         world.reset();
     }
 };
 
 struct BodyInfo {
-    glm::dquat toMesh{1.0, 0.0, 0.0, 0.0};  // body orientation → mesh orientation (conjugate of the principal frame)
-    glm::dvec3 moments{0.0};
+    glm::dvec3 moments{0.0};  // principal, in the body frame
     double mass = 0.0;
 };
 
@@ -234,23 +273,85 @@ double ccdSize(const Hull& hull) {
 
 NodeLoads zeroLoads(std::size_t n) { return {std::vector<glm::dvec3>(n, glm::dvec3(0.0)), std::vector<glm::dvec3>(n, glm::dvec3(0.0))}; }
 
-// Glue: one fixed joint per bond, anchored at the shared face's centroid, holds the pieces
-// together. Whether a bond breaks is not read from the joint: a rigid solver's split of a
-// load over redundant joints is arbitrary and swings whenever it re-solves (bond_stress.hpp).
-// Once a frame, the bond graph's linear model gives each bond's largest principal stress
-// under the pieces' weights and each piece's largest contact load of the frame's substeps
-// (a hit lasts one substep: averaged over the frame it would count a quarter); the bond
-// breaks when that exceeds what it carried in the first frame by more than its strength.
-// Pieces of one glued cluster do not collide (ClusterDispatcher); once a break splits the
-// cluster, they do.
+glm::dmat3 diagonal(const glm::dvec3& d) { return glm::dmat3(d.x, 0.0, 0.0, 0.0, d.y, 0.0, 0.0, 0.0, d.z); }
+
+// What Bullet keeps of a moving body between steps, to take a step back.
+struct BodyState {
+    btRigidBody* body;
+    btTransform transform, interpolation;
+    btVector3 linear, angular;
+    int activation;
+    btScalar sleeping;
+};
+
+std::vector<BodyState> saveStates(std::span<const std::unique_ptr<btRigidBody>> actors, btRigidBody* projectile) {
+    std::vector<BodyState> out;
+    const auto save = [&](btRigidBody* b) {
+        if (b && !b->isStaticObject())
+            out.push_back({b, b->getCenterOfMassTransform(), b->getInterpolationWorldTransform(), b->getLinearVelocity(),
+                           b->getAngularVelocity(), b->getActivationState(), b->getDeactivationTime()});
+    };
+    for (const auto& b : actors) save(b.get());
+    save(projectile);
+    return out;
+}
+
+void restoreStates(std::span<const BodyState> states) {
+    for (const BodyState& s : states) {
+        s.body->setCenterOfMassTransform(s.transform);
+        s.body->setInterpolationWorldTransform(s.interpolation);
+        s.body->setLinearVelocity(s.linear);
+        s.body->setAngularVelocity(s.angular);
+        s.body->setInterpolationLinearVelocity(s.linear);
+        s.body->setInterpolationAngularVelocity(s.angular);
+        s.body->forceActivationState(s.activation);
+        s.body->setDeactivationTime(s.sleeping);
+    }
+}
+
+// Glued pieces as compound actors (the model of NVIDIA Blast and Unreal's Chaos): each set of
+// pieces connected by unbroken bonds is one rigid body, a compound of their hulls with their
+// masses and inertias summed exactly; a set that rests on the ground or the support is fixed
+// there. Nothing inside an actor is solved: no joints, no contacts between its pieces.
+// After every substep the contacts on the actors load the bond graph's linear model
+// (bond_stress.hpp) with the pieces' weights; a bond breaks when its stress exceeds what it
+// carried at rest by more than its strength. The substep is then taken again from where it
+// started, with the broken actors split into their new connected sets, each moving with the
+// velocity field of its parent, so that what broke a bond pushes the pieces it freed instead
+// of bouncing off the whole.
+constexpr double kFront = 0.5;
+
+// A glued piece resting on the ground plane or the support is bonded to it (Blast's bond to
+// the world): a link in the bond graph to a fixed node, as wide as the piece's faces that lie
+// on the plane, as strong as the piece's strongest bond. While it holds, the piece holds its
+// actor where it stands; a hit that shears it off frees the piece.
+struct GroundLink {
+    std::uint32_t piece = 0;
+    glm::dvec3 point{0.0};  // the centroid of the faces on the plane
+    double area = 0.0;      // m²
+};
+
 struct Glue {
     double strength = 0.0;    // Pa, with this bond's variation
-    double restStress = 0.0;  // Pa, what the bond carried in the first step
+    double restStress = 0.0;  // Pa, what the bond carries at rest under the weights
+    bool broken = false;
+};
+
+struct Actor {
+    std::vector<std::uint32_t> pieces;  // ascending; child k of the compound is pieces[k]
+    BodyInfo info;                      // the whole set's mass and principal moments
+    bool fixed = false;                 // held where it rests until a bond breaks
+};
+
+// A parent's velocity field, which the actors split from it inherit.
+struct Motion {
+    glm::dvec3 linear{0.0}, angular{0.0}, center{0.0};
 };
 
 // One run of simulate(). Bullet's results depend on the order of every call that
-// reaches it, so run() keeps one: pieces in piece order, glue in bond order, ground,
-// colliders, then fixed steps (the projectile, if any, is added at the trigger step).
+// reaches it, so run() keeps one: pieces' hulls in piece order, actors in the order of their
+// smallest piece, ground, colliders, then fixed steps (the projectile, if any, is added at the
+// trigger step); a split adds its actors in the same order.
 class Simulation {
 public:
     Simulation(std::span<const RigidPiece> pieces, std::span<const Bond> bonds, const SimulationSettings& settings,
@@ -258,25 +359,37 @@ public:
     SimulationResult run(const ProgressFn& progress);
 
 private:
-    void addPieces();
+    void addHulls();
     void addGlue();
+    void addGroundLinks();
+    bool held(std::uint32_t piece) const;
+    std::pair<std::uint32_t, std::uint32_t> linkEnds(std::size_t link) const;
+    void findHullOverlaps();
+    void addActors();
     void addGroundAndColliders();
     void buildWorld();
     void trigger();
     void collapse();
     void explode();
     void launchProjectile();
+    void limitSpin();
     void step();
     void advanceFrame();
     void record(int frame);
     void recordTurns(int frame);
 
     btRigidBody& addBody(std::unique_ptr<btRigidBody> body, std::unique_ptr<btCollisionShape> shape);
+    std::uint32_t addActor(std::vector<std::uint32_t> members, std::span<const btTransform> frames, const Motion& parent,
+                           bool parentFixed);
+    void splitActors();
+    std::vector<std::vector<std::uint32_t>> connectedSets() const;
     void buildStressModel();
-    void addContactLoads();
-    void updateClusters();
-    void breakOverloadedGlue();
+    bool contactLoads(NodeLoads& loads, std::vector<bool>& touched) const;
+    bool breakBonds(NodeLoads loads, const std::vector<bool>* touched);
+    bool breakOverloadedGlue();
     double totalEnergy() const;
+    btTransform pieceFrame(std::size_t i) const;
+    glm::dvec3 pieceVelocity(std::size_t i) const;
     glm::dquat meshOrientation(std::size_t i) const;
 
     std::span<const RigidPiece> pieces_;
@@ -288,10 +401,15 @@ private:
     const PieceShapes& shapes_;
     World w_;
     SimulationResult result_;
-    std::vector<BodyInfo> info_;            // per piece
+    std::vector<glm::dquat> toMesh_;        // per piece: its principal frame at rest, conjugated
+    std::vector<GroundLink> ground_;        // the glued pieces that rest on the ground or the support
+    std::vector<int> groundOf_;             // per piece: its ground link, or -1
+    std::vector<Actor> actors_;             // every actor made, split ones too (their bodies are gone)
+    std::vector<std::uint32_t> actorOf_;    // per piece
+    std::vector<btTransform> local_;        // per piece: its principal frame in its actor's body frame
     std::vector<Glue> glue_;                // per bond, when there is glue
-    std::unique_ptr<BondStressModel> stress_;  // built after the first frame, when there is glue
-    NodeLoads frameLoads_;                     // per piece, when there is glue: its largest contact load of the frame so far
+    HullOverlaps overlaps_;
+    std::unique_ptr<BondStressModel> stress_;  // when there is glue
     btRigidBody* projectile_ = nullptr;
     BodyInfo projectileInfo_;
     long step_ = 0;
@@ -308,7 +426,7 @@ Simulation::Simulation(std::span<const RigidPiece> pieces, std::span<const Bond>
     : pieces_(pieces), bonds_(bonds), settings_(settings), n_(pieces.size()),
       dt_(1.0 / settings.fps / settings.substeps),
       triggerStep_(std::lround(std::ceil(settings.triggerTime / dt_ - 1e-9))), shapes_(shapes),
-      recorded_(n_), path_(n_), travelled_(n_) {
+      actorOf_(n_), local_(n_), recorded_(n_), path_(n_), travelled_(n_) {
     w_.world->setGravity(bt(settings_.gravity));
     btContactSolverInfo& solverInfo = w_.world->getSolverInfo();
     solverInfo.m_numIterations = settings_.solverIterations;
@@ -321,17 +439,22 @@ Simulation::Simulation(std::span<const RigidPiece> pieces, std::span<const Bond>
     result_.groundHeight = settings_.groundHeight.value_or(shapes_.lo.y);
 }
 
-// Pieces in piece order, glue in bond order, then the ground and colliders.
+// Hulls in piece order, glue in bond order, actors, then the ground and colliders.
 void Simulation::buildWorld() {
-    addPieces();
+    addHulls();
     addGlue();
-    updateClusters();
+    addGroundLinks();
+    findHullOverlaps();
+    addActors();
+    buildStressModel();
     addGroundAndColliders();
 }
 
 SimulationResult Simulation::run(const ProgressFn& progress) {
     result_.transforms.resize(std::size_t(settings_.frames) * n_ * 7);
     result_.turns.assign(std::size_t(settings_.frames) * n_, 0.0f);
+    tOverlaps = &overlaps_;
+    struct Reset { ~Reset() { tOverlaps = nullptr; } } reset;
     buildWorld();
     if (triggerStep_ == 0) trigger();
     record(0);
@@ -341,12 +464,13 @@ SimulationResult Simulation::run(const ProgressFn& progress) {
         recordTurns(frame);
         if (!progress(double(frame) / double(settings_.frames - 1))) throw Cancelled();
     }
-    for (const auto& c : w_.constraints)
-        if (!c->isEnabled()) ++result_.brokenBonds;
+    for (std::size_t i = 0; i < bonds_.size() && i < glue_.size(); ++i) result_.brokenBonds += glue_[i].broken;
+    for (const Actor& a : actors_) result_.fixedActors += a.fixed;
+    result_.actors = actors_.size();
     return std::move(result_);
 }
 
-// Adds a body to the world and keeps it and its shape alive with it.
+// Adds a body that is not an actor to the world and keeps it and its shape alive with it.
 btRigidBody& Simulation::addBody(std::unique_ptr<btRigidBody> body, std::unique_ptr<btCollisionShape> shape) {
     w_.world->addRigidBody(body.get());
     w_.shapes.push_back(std::move(shape));
@@ -354,55 +478,237 @@ btRigidBody& Simulation::addBody(std::unique_ptr<btRigidBody> body, std::unique_
     return *w_.bodies.back();
 }
 
-// One body per piece, in its principal frame; the body's user index is its piece.
-void Simulation::addPieces() {
+// Each piece's hull, in its principal frame.
+void Simulation::addHulls() {
     for (std::size_t i = 0; i < n_; ++i) {
-        const RigidPiece& p = pieces_[i];
         const PrincipalInertia& pi = shapes_.principal[i];
         const Hull& hull = shapes_.hulls[i];
         for (int c = 0; c < 3; ++c)
             if (!(pi.moments[c] > 0.0) || !std::isfinite(pi.moments[c]))
-                throw InputError(format("piece {} ({}) has an inertia tensor that is not positive definite", i, p.name));
+                throw InputError(format("piece {} ({}) has an inertia tensor that is not positive definite", i,
+                                        pieces_[i].name));
         auto shape = std::make_unique<btConvexHullShape>(&hull.points[0].x(), int(hull.points.size()),
                                                          int(sizeof(btVector3)));
         shape->setMargin(hull.margin);
+        shape->setUserIndex(int(i));
+        w_.hulls.push_back(std::move(shape));
         result_.hullVertices.push_back(int(hull.points.size()));
-        const glm::dquat frame = glm::quat_cast(pi.axes);
-        btRigidBody::btRigidBodyConstructionInfo ci(btScalar(p.mass), nullptr, shape.get(), bt(pi.moments));
-        ci.m_startWorldTransform = btTransform(bt(frame), bt(p.centerOfMass));
-        ci.m_friction = btScalar(settings_.friction);
-        ci.m_restitution = btScalar(settings_.restitution);
-        ci.m_linearDamping = btScalar(settings_.linearDamping);
-        ci.m_angularDamping = btScalar(settings_.angularDamping);
-        auto body = std::make_unique<btRigidBody>(ci);
-        body->setUserIndex(int(i));
-        const double small = ccdSize(hull);
-        body->setCcdMotionThreshold(btScalar(0.5 * small));
-        body->setCcdSweptSphereRadius(btScalar(0.8 * small));
-        addBody(std::move(body), std::move(shape));
-        info_.push_back({glm::conjugate(frame), pi.moments, p.mass});
+        toMesh_.push_back(glm::conjugate(glm::quat_cast(pi.axes)));
     }
 }
 
 void Simulation::addGlue() {
     if (!(settings_.strength > 0.0)) return;
     for (std::size_t i = 0; i < bonds_.size(); ++i) {
-        const Bond& b = bonds_[i];
-        btRigidBody& A = *w_.bodies[b.a];
-        btRigidBody& B = *w_.bodies[b.b];
-        const btTransform anchor(btQuaternion::getIdentity(), bt(b.centroid));
-        const btTransform inA = A.getCenterOfMassTransform().inverse() * anchor;
-        const btTransform inB = B.getCenterOfMassTransform().inverse() * anchor;
-        auto joint = std::make_unique<btFixedConstraint>(A, B, inA, inB);
         Rng rng(deriveSeed(settings_.seed, "bond-strength", i));
         const double variation = 1.0 + settings_.strengthVariation * (2.0 * rng.uniform() - 1.0);
-        const double strength = b.strength > 0.0 ? b.strength : settings_.strength;  // the bond's material's, if it has one
-        glue_.push_back({strength * variation, 0.0});
-        w_.world->addConstraint(joint.get(), true);
-        w_.constraints.push_back(std::move(joint));
+        const double strength = bonds_[i].strength > 0.0 ? bonds_[i].strength : settings_.strength;  // the bond's material's, if it has one
+        glue_.push_back({strength * variation, 0.0, false});
     }
-    if (!glue_.empty()) frameLoads_ = zeroLoads(n_);
-    result_.bonds = w_.constraints.size();
+    result_.bonds = glue_.size();
+}
+
+// The glued pieces whose lowest point is within the collision margin of the ground plane, or
+// of the support they stand over, get a ground link (appended to the glue, after the bonds).
+// Its area is that of their faces within the margin of the plane (a point or an edge on it
+// counts a square centimetre).
+void Simulation::addGroundLinks() {
+    groundOf_.assign(n_, -1);
+    if (glue_.empty()) return;
+    std::vector<double> strongest(n_, 0.0);
+    for (std::size_t i = 0; i < bonds_.size(); ++i)
+        for (std::uint32_t p : {bonds_[i].a, bonds_[i].b}) strongest[p] = std::max(strongest[p], glue_[i].strength);
+    for (std::uint32_t i = 0; i < n_; ++i) {
+        const RigidPiece& p = pieces_[i];
+        const glm::dvec3& c = p.centerOfMass;
+        double lowest = std::numeric_limits<double>::max();
+        for (const glm::vec3& v : p.mesh.positions) lowest = std::min(lowest, c.y + double(v.y));
+        std::optional<double> plane;
+        if (settings_.ground && lowest - settings_.margin <= result_.groundHeight) plane = result_.groundHeight;
+        if (const std::optional<Support>& s = settings_.support;
+            s && c.x >= s->min.x && c.x <= s->max.x && c.z >= s->min.y && c.z <= s->max.y && lowest - settings_.margin <= s->height)
+            plane = s->height;
+        if (!plane || !(strongest[i] > 0.0)) continue;
+        GroundLink link{i, glm::dvec3(0.0), 0.0};
+        const auto on = [&](std::uint32_t v) { return c.y + double(p.mesh.positions[v].y) <= *plane + settings_.margin; };
+        for (std::size_t t = 0; t + 2 < p.mesh.indices.size(); t += 3) {
+            const std::uint32_t* v = &p.mesh.indices[t];
+            if (!on(v[0]) || !on(v[1]) || !on(v[2])) continue;
+            const glm::dvec3 a(p.mesh.positions[v[0]]), b(p.mesh.positions[v[1]]), d(p.mesh.positions[v[2]]);
+            const double area = 0.5 * glm::length(glm::cross(b - a, d - a));
+            link.area += area;
+            link.point += area * (c + (a + b + d) / 3.0);
+        }
+        if (link.area > 1e-4) {
+            link.point /= link.area;
+        } else {
+            link = {i, glm::dvec3(c.x, lowest, c.z), 1e-4};
+        }
+        groundOf_[i] = int(ground_.size());
+        ground_.push_back(link);
+        glue_.push_back({strongest[i], 0.0, false});
+    }
+}
+
+// A piece is held while its ground link is.
+bool Simulation::held(std::uint32_t piece) const {
+    return groundOf_[piece] >= 0 && !glue_[bonds_.size() + std::size_t(groundOf_[piece])].broken;
+}
+
+// A link's two nodes: a bond's pieces, or a ground link's piece and the ground (node n).
+std::pair<std::uint32_t, std::uint32_t> Simulation::linkEnds(std::size_t link) const {
+    if (link < bonds_.size()) return {bonds_[link].a, bonds_[link].b};
+    return {ground_[link - bonds_.size()].piece, std::uint32_t(n_)};
+}
+
+// The sets of pieces joined by unbroken bonds, each ascending, ordered by their first piece.
+std::vector<std::vector<std::uint32_t>> Simulation::connectedSets() const {
+    UnionFind sets(n_);
+    for (std::size_t i = 0; i < bonds_.size() && i < glue_.size(); ++i)
+        if (!glue_[i].broken) sets.unite(bonds_[i].a, bonds_[i].b);
+    std::vector<std::vector<std::uint32_t>> out;
+    std::vector<std::uint32_t> index(n_, std::numeric_limits<std::uint32_t>::max());
+    for (std::uint32_t i = 0; i < n_; ++i) {
+        const std::uint32_t root = sets.find(i);
+        if (index[root] == std::numeric_limits<std::uint32_t>::max()) index[root] = std::uint32_t(out.size()), out.emplace_back();
+        out[index[root]].push_back(i);
+    }
+    return out;
+}
+
+// Candidates by their hulls' bounds at rest (sorted along x), then GJK and EPA on each: a pair
+// is kept when its hulls, margins included, overlap by more than two margins (neighbours that
+// share a face touch, or overlap by the rounding of their hulls).
+void Simulation::findHullOverlaps() {
+    std::vector<btVector3> lo(n_), hi(n_);
+    std::vector<btTransform> rest(n_);
+    for (std::size_t i = 0; i < n_; ++i) {
+        rest[i] = btTransform(bt(glm::conjugate(toMesh_[i])), bt(pieces_[i].centerOfMass));
+        w_.hulls[i]->getAabb(rest[i], lo[i], hi[i]);
+    }
+    std::vector<std::uint32_t> order(n_);
+    for (std::uint32_t i = 0; i < n_; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return lo[a].x() < lo[b].x() || (lo[a].x() == lo[b].x() && a < b);
+    });
+    std::vector<std::vector<std::uint64_t>> found(n_);
+    tbb::parallel_for(std::size_t(0), n_, [&](std::size_t k) {
+        const std::uint32_t a = order[k];
+        for (std::size_t m = k + 1; m < n_ && lo[order[m]].x() <= hi[a].x(); ++m) {
+            const std::uint32_t b = order[m];
+            if (lo[b].y() > hi[a].y() || hi[b].y() < lo[a].y() || lo[b].z() > hi[a].z() || hi[b].z() < lo[a].z()) continue;
+            btVoronoiSimplexSolver simplex;
+            btGjkEpaPenetrationDepthSolver epa;
+            btGjkPairDetector gjk(w_.hulls[a].get(), w_.hulls[b].get(), &simplex, &epa);
+            btGjkPairDetector::ClosestPointInput input;
+            input.m_transformA = rest[a];
+            input.m_transformB = rest[b];
+            btPointCollector result;
+            gjk.getClosestPoints(input, result, nullptr);
+            if (result.m_hasResult && result.m_distance < -2.0 * settings_.margin)
+                found[a].push_back((std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b)));
+        }
+    });
+    for (const std::vector<std::uint64_t>& f : found) overlaps_.pairs.insert(overlaps_.pairs.end(), f.begin(), f.end());
+    std::sort(overlaps_.pairs.begin(), overlaps_.pairs.end());
+    result_.overlappingHulls = overlaps_.pairs.size();
+}
+
+void Simulation::addActors() {
+    std::vector<btTransform> frames(n_);
+    for (std::size_t i = 0; i < n_; ++i)
+        frames[i] = btTransform(bt(glm::conjugate(toMesh_[i])), bt(pieces_[i].centerOfMass));
+    for (std::vector<std::uint32_t>& set : connectedSets()) addActor(std::move(set), frames, Motion{}, true);
+}
+
+// One body for `members` (at `frames`, per piece, world): a lone piece is its hull, a set a
+// compound of its hulls in its principal frame. A set with a held piece is fixed while its
+// parent was; any other moves with its parent's velocity field.
+std::uint32_t Simulation::addActor(std::vector<std::uint32_t> members, std::span<const btTransform> frames,
+                                   const Motion& parent, bool parentFixed) {
+    const std::uint32_t id = std::uint32_t(actors_.size());
+    Actor& actor = actors_.emplace_back();
+    actor.fixed = settings_.anchor && parentFixed && members.size() > 1 &&
+                  std::any_of(members.begin(), members.end(), [&](std::uint32_t i) { return held(i); });
+    glm::dvec3 center(0.0);
+    for (std::uint32_t i : members) {
+        actor.info.mass += pieces_[i].mass;
+        center += pieces_[i].mass * toGlm(frames[i].getOrigin());
+    }
+    center /= actor.info.mass;
+    glm::dmat3 inertia(0.0);
+    for (std::uint32_t i : members) {
+        const glm::dmat3 R = glm::mat3_cast(toGlm(frames[i].getRotation()));
+        const glm::dvec3 d = toGlm(frames[i].getOrigin()) - center;
+        inertia += R * diagonal(shapes_.principal[i].moments) * glm::transpose(R) +
+                   pieces_[i].mass * (glm::dot(d, d) * glm::dmat3(1.0) - glm::outerProduct(d, d));
+    }
+    const PrincipalInertia principal = principalInertia(inertia);
+    actor.info.moments = principal.moments;
+    const btTransform frame = members.size() == 1 ? frames[members[0]]
+                                                  : btTransform(bt(glm::quat_cast(principal.axes)), bt(center));
+    btCollisionShape* shape = w_.hulls[members[0]].get();
+    std::unique_ptr<btCompoundShape> compound;
+    if (members.size() > 1) {
+        compound = std::make_unique<btCompoundShape>(true, int(members.size()));
+        for (std::uint32_t i : members) compound->addChildShape(frame.inverse() * frames[i], w_.hulls[i].get());
+        shape = compound.get();
+    }
+    double ccd = std::numeric_limits<double>::max();
+    for (std::uint32_t i : members) {
+        actorOf_[i] = id;
+        local_[i] = members.size() == 1 ? btTransform::getIdentity() : frame.inverse() * frames[i];
+        ccd = std::min(ccd, ccdSize(shapes_.hulls[i]));
+    }
+    const double mass = actor.fixed ? 0.0 : actor.info.mass;
+    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(mass), nullptr, shape,
+                                                actor.fixed ? btVector3(0, 0, 0) : bt(actor.info.moments));
+    ci.m_startWorldTransform = frame;
+    ci.m_friction = btScalar(settings_.friction);
+    ci.m_restitution = btScalar(settings_.restitution);
+    ci.m_linearDamping = btScalar(settings_.linearDamping);
+    ci.m_angularDamping = btScalar(settings_.angularDamping);
+    auto body = std::make_unique<btRigidBody>(ci);
+    body->setUserIndex(int(id));
+    if (!actor.fixed) {
+        body->setLinearVelocity(bt(parent.linear + glm::cross(parent.angular, center - parent.center)));
+        body->setAngularVelocity(bt(parent.angular));
+        body->setCcdMotionThreshold(btScalar(0.5 * ccd));
+        body->setCcdSweptSphereRadius(btScalar(0.8 * ccd));
+    }
+    actor.pieces = std::move(members);
+    w_.world->addRigidBody(body.get());
+    w_.actors.push_back(std::move(body));
+    w_.compounds.push_back(std::move(compound));
+    return id;
+}
+
+// Actors whose pieces no longer form one connected set give way to one actor per set, and a
+// fixed actor whose last ground link broke to one that moves.
+void Simulation::splitActors() {
+    const std::vector<std::vector<std::uint32_t>> sets = connectedSets();
+    std::vector<std::uint32_t> setOf(n_);
+    for (std::size_t s = 0; s < sets.size(); ++s)
+        for (std::uint32_t i : sets[s]) setOf[i] = std::uint32_t(s);
+    const std::size_t before = actors_.size();
+    std::vector<btTransform> frames(n_);
+    for (std::size_t a = 0; a < before; ++a) {
+        const std::vector<std::uint32_t>& members = actors_[a].pieces;
+        const bool whole = std::all_of(members.begin(), members.end(), [&](std::uint32_t i) { return setOf[i] == setOf[members[0]]; });
+        const bool stillHeld = std::any_of(members.begin(), members.end(), [&](std::uint32_t i) { return held(i); });
+        if (!w_.actors[a] || (whole && (stillHeld || !actors_[a].fixed))) continue;
+        const btRigidBody& body = *w_.actors[a];
+        const Motion parent{toGlm(body.getLinearVelocity()), toGlm(body.getAngularVelocity()), toGlm(body.getCenterOfMassPosition())};
+        for (std::uint32_t i : members) frames[i] = pieceFrame(i);
+        const bool fixed = actors_[a].fixed;
+        const std::vector<std::uint32_t> pieces = members;  // addActor may move actors_
+        w_.world->removeActorBody(w_.actors[a].get());
+        w_.actors[a].reset();
+        w_.compounds[a].reset();
+        std::vector<bool> done(sets.size(), false);
+        for (std::uint32_t i : pieces)
+            if (!done[setOf[i]]) done[setOf[i]] = true, addActor(sets[setOf[i]], frames, parent, fixed);
+    }
 }
 
 void Simulation::addGroundAndColliders() {
@@ -444,25 +750,45 @@ void Simulation::trigger() {
     if (settings_.projectile) launchProjectile();
 }
 
-// Every bond breaks at once.
+// Every bond, and every ground link, breaks at once.
 void Simulation::collapse() {
-    for (auto& c : w_.constraints) c->setEnabled(false);
-    for (std::size_t i = 0; stress_ && i < glue_.size(); ++i) stress_->breakLink(i);
-    for (std::size_t i = 0; i < n_; ++i) w_.bodies[i]->activate(true);
-    updateClusters();
+    for (std::size_t i = 0; i < glue_.size(); ++i)
+        if (!glue_[i].broken) {
+            glue_[i].broken = true;
+            stress_->breakLink(i);
+            if (i < bonds_.size()) result_.breaks.push_back({i, double(step_) * dt_});
+        }
+    splitActors();
 }
 
+// The blast pushes each piece in proportion to the area it shows, (m / m̄)^(2/3) of what a piece
+// of the mean mass gets (the same impulse on every piece shot slivers off at 20 km/s). The
+// impulses load the bond graph first (over one substep), so that what they break is split
+// before they push the pieces; a fixed actor takes what is left.
 void Simulation::explode() {
     const Explosion& x = *settings_.explosion;
     const double before = totalEnergy();
+    double mean = 0.0;
+    for (const RigidPiece& p : pieces_) mean += p.mass / double(n_);
+    std::vector<glm::dvec3> impulse(n_, glm::dvec3(0.0));
     for (std::size_t i = 0; i < n_; ++i) {
         const glm::dvec3 d = pieces_[i].centerOfMass - x.center;
         const double dist = glm::length(d);
         if (dist >= x.radius) continue;
         const double falloff = (1.0 - dist / x.radius) * (1.0 - dist / x.radius);
-        const glm::dvec3 dir = dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0);
-        w_.bodies[i]->activate(true);
-        w_.bodies[i]->applyCentralImpulse(bt(dir * (x.impulse * falloff)));
+        const double area = std::cbrt(pieces_[i].mass / mean) * std::cbrt(pieces_[i].mass / mean);  // (m / m̄)^(2/3)
+        impulse[i] = (dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0)) * (x.impulse * falloff * area);
+    }
+    if (stress_) {
+        NodeLoads loads = zeroLoads(n_ + 1);
+        for (std::size_t i = 0; i < n_; ++i) loads.force[i] = glm::conjugate(meshOrientation(i)) * impulse[i] / dt_;
+        if (breakBonds(std::move(loads), nullptr)) splitActors();
+    }
+    for (std::size_t i = 0; i < n_; ++i) {
+        btRigidBody& body = *w_.actors[actorOf_[i]];
+        if (impulse[i] == glm::dvec3(0.0) || body.isStaticObject()) continue;
+        body.activate(true);
+        body.applyImpulse(bt(impulse[i]), pieceFrame(i).getOrigin() - body.getCenterOfMassPosition());
     }
     result_.injectedEnergy += totalEnergy() - before;
 }
@@ -489,17 +815,38 @@ void Simulation::launchProjectile() {
     body->setCcdMotionThreshold(btScalar(0.5 * p.radius));
     body->setCcdSweptSphereRadius(btScalar(0.9 * p.radius));
     projectile_ = &addBody(std::move(body), std::move(shape));
-    projectileInfo_ = {glm::dquat(1.0, 0.0, 0.0, 0.0), glm::dvec3(moment), p.mass};
+    projectileInfo_ = {glm::dvec3(moment), p.mass};
     result_.injectedEnergy += energyOf(*projectile_, projectileInfo_, settings_.gravity);
 }
 
-// One fixed Bullet step, then the glue check, then the trigger when it is due.
+// Bullet turns a body by at most an eighth of a turn per step, and past that its quaternion
+// update is wrong (the axis is scaled by the clamped angle, and the body flips by up to half a
+// turn each step): no body spins faster than that. A sliver that an explosion hits off its
+// actor's centre would (78,794 rad/s on the elephant's).
+void Simulation::limitSpin() {
+    const double most = 0.9 * glm::quarter_pi<double>() / dt_;
+    for (const auto& body : w_.actors) {
+        if (!body || body->isStaticObject()) continue;
+        const double spin = double(body->getAngularVelocity().length());
+        if (spin > most) body->setAngularVelocity(body->getAngularVelocity() * btScalar(most / spin));
+    }
+}
+
+// One fixed Bullet step; while it breaks bonds, it is taken again from where it started with
+// the broken actors split (each retake breaks at least one more bond, so this ends). Then the
+// trigger when it is due.
 void Simulation::step() {
-    w_.dispatcher.dropStaleContacts();
-    w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-    if (!glue_.empty()) addContactLoads();
+    std::vector<BodyState> start;
+    limitSpin();
+    for (;;) {
+        w_.dispatcher.dropStaleContacts();
+        if (stress_) start = saveStates(w_.actors, projectile_);
+        w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
+        if (!breakOverloadedGlue()) break;
+        restoreStates(start);
+        splitActors();
+    }
     ++step_;
-    if (step_ % settings_.substeps == 0) breakOverloadedGlue();
     if (step_ == triggerStep_) trigger();
 }
 
@@ -524,8 +871,7 @@ void Simulation::advanceFrame() {
 void Simulation::record(int frame) {
     float* out = result_.transforms.data() + std::size_t(frame) * n_ * 7;
     for (std::size_t i = 0; i < n_; ++i, out += 7) {
-        const btRigidBody& body = *w_.bodies[i];
-        const glm::dvec3 x = frame == 0 ? pieces_[i].centerOfMass : toGlm(body.getCenterOfMassPosition());
+        const glm::dvec3 x = frame == 0 ? pieces_[i].centerOfMass : toGlm(pieceFrame(i).getOrigin());
         glm::dquat q = frame == 0 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : meshOrientation(i);
         if (q.w < 0.0) q = -q;  // one sign per orientation: w ≥ 0
         recorded_[i] = q;
@@ -535,7 +881,7 @@ void Simulation::record(int frame) {
                 throw std::runtime_error(format("simulate(): piece {} is not finite at frame {}", i, frame));
             out[c] = float(values[std::size_t(c)]);
         }
-        result_.maxSpeed = std::max(result_.maxSpeed, double(body.getLinearVelocity().length()));
+        result_.maxSpeed = std::max(result_.maxSpeed, glm::length(pieceVelocity(i)));
     }
     result_.energy.push_back(totalEnergy() - result_.injectedEnergy);
 }
@@ -549,97 +895,123 @@ void Simulation::recordTurns(int frame) {
     }
 }
 
-// The model of the bond graph at rest: pieces at their rest centres of mass, held where the
-// first step found them touching the ground, a support or a collider.
+// The model of the bond graph at rest: pieces at their rest centres of mass, the held ones
+// fixed; what each bond carries under the weights alone is its rest stress.
 void Simulation::buildStressModel() {
-    std::vector<StressNode> nodes(n_);
+    if (glue_.empty()) return;
+    std::vector<StressNode> nodes(n_ + 1);  // the pieces, then the ground
     for (std::size_t i = 0; i < n_; ++i) nodes[i] = {pieces_[i].centerOfMass, pieces_[i].mass, false};
-    for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
-        const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
-        const int i = manifold->getBody0()->getUserIndex(), j = manifold->getBody1()->getUserIndex();
-        if (manifold->getNumContacts() == 0 || (i >= 0) == (j >= 0)) continue;
-        nodes[std::size_t(std::max(i, j))].held = true;
-    }
+    nodes[n_] = {glm::dvec3(0.0), 0.0, true};
     std::vector<StressLink> links;
-    links.reserve(bonds_.size());
+    links.reserve(glue_.size());
     for (const Bond& b : bonds_) links.push_back({b.a, b.b, b.centroid, b.normal, std::max(b.area, 1e-8)});
+    for (const GroundLink& g : ground_) links.push_back({g.piece, std::uint32_t(n_), g.point, {0.0, -1.0, 0.0}, g.area});
     stress_ = std::make_unique<BondStressModel>(std::move(nodes), std::move(links));
-    for (std::size_t i = 0; i < glue_.size(); ++i)
-        if (!w_.constraints[i]->isEnabled()) stress_->breakLink(i);  // a collapse before the first step
+    NodeLoads weights = zeroLoads(n_ + 1);
+    for (std::size_t i = 0; i < n_; ++i) weights.force[i] = pieces_[i].mass * settings_.gravity;
+    const std::vector<double> rest = stress_->stresses(weights);
+    for (std::size_t i = 0; i < glue_.size(); ++i) glue_[i].restStress = rest[i];
 }
 
 // The contact impulses of the substep just taken, over its length, as forces and torques in
-// each piece's rest frame; each piece keeps the largest of the frame's substeps.
-void Simulation::addContactLoads() {
-    NodeLoads step = zeroLoads(n_);
-    const auto add = [&](int piece, const btVector3& impulse, const btVector3& at) {
-        if (piece < 0) return;
-        const btRigidBody& body = *w_.bodies[std::size_t(piece)];
-        const glm::dquat back = glm::conjugate(meshOrientation(std::size_t(piece)));
-        step.force[std::size_t(piece)] += back * toGlm(impulse) / dt_;
-        step.torque[std::size_t(piece)] += back * toGlm((at - body.getCenterOfMassPosition()).cross(impulse)) / dt_;
+// each piece's rest frame. True when a piece of a glued actor has one. What the ground, the
+// support or a collider does to a held piece is its ground link's part (the model holds it
+// there), so those contacts are left out.
+bool Simulation::contactLoads(NodeLoads& loads, std::vector<bool>& touched) const {
+    bool glued = false;
+    const auto add = [&](const btCollisionObject* body, int child, const btVector3& impulse, const btVector3& at,
+                         const btCollisionObject* other) {
+        const int a = body->getUserIndex();
+        if (a < 0) return;
+        const std::vector<std::uint32_t>& members = actors_[std::size_t(a)].pieces;
+        if (members.size() > 1 && (child < 0 || std::size_t(child) >= members.size())) return;
+        const std::uint32_t piece = members.size() == 1 ? members[0] : members[std::size_t(child)];
+        if (other->getUserIndex() < 0 && other->isStaticObject() && held(piece)) return;  // its ground link stands for it
+        const glm::dquat back = glm::conjugate(meshOrientation(piece));
+        loads.force[piece] += back * toGlm(impulse) / dt_;
+        loads.torque[piece] += back * toGlm((at - pieceFrame(piece).getOrigin()).cross(impulse)) / dt_;
+        if (members.size() > 1) glued = true, touched[piece] = true;
     };
     for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
         const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
-        const int a = manifold->getBody0()->getUserIndex(), b = manifold->getBody1()->getUserIndex();
+        if (!manifold->getBody0()->isActive() && !manifold->getBody1()->isActive()) continue;  // asleep or fixed: as before
         for (int c = 0; c < manifold->getNumContacts(); ++c) {
             const btManifoldPoint& p = manifold->getContactPoint(c);
             const btVector3 impulse = p.m_normalWorldOnB * p.getAppliedImpulse() +
                                       p.m_lateralFrictionDir1 * p.m_appliedImpulseLateral1 +
                                       p.m_lateralFrictionDir2 * p.m_appliedImpulseLateral2;
-            add(a, impulse, p.getPositionWorldOnA());
-            add(b, -impulse, p.getPositionWorldOnB());
+            add(manifold->getBody0(), p.m_index0, impulse, p.getPositionWorldOnA(), manifold->getBody1());
+            add(manifold->getBody1(), p.m_index1, -impulse, p.getPositionWorldOnB(), manifold->getBody0());
         }
     }
+    return glued;
+}
+
+// Adds the weights (in the rest frames) to `loads` and breaks the bonds whose stress exceeds
+// their rest stress by more than their strength, the most overloaded first (those over kFront
+// of the worst), then solves again without them, until none is over: a set of pieces cut
+// loose is balanced by its own inertia and passes its load on no further, so a break runs
+// from where the structure is loaded, as a crack does, instead of everywhere a load that a
+// rigid body takes at once would reach. Only the groups with a `touched` piece (all without
+// `touched`), and those a break changed, are solved. True when a bond broke.
+bool Simulation::breakBonds(NodeLoads loads, const std::vector<bool>* touched) {
     for (std::size_t i = 0; i < n_; ++i)
-        if (glm::length(step.force[i]) > glm::length(frameLoads_.force[i]))
-            frameLoads_.force[i] = step.force[i], frameLoads_.torque[i] = step.torque[i];
-}
-
-// Clusters: connected components of the unbroken bonds (union-find, smallest index as
-// the representative, so the labels depend on the bonds alone).
-void Simulation::updateClusters() {
-    UnionFind clusters(n_);
-    for (std::size_t i = 0; i < glue_.size(); ++i)
-        if (w_.constraints[i]->isEnabled()) clusters.unite(bonds_[i].a, bonds_[i].b);
-    std::vector<int>& label = w_.dispatcher.cluster;
-    label.resize(n_);
-    for (std::size_t i = 0; i < n_; ++i) label[i] = int(clusters.find(std::uint32_t(i)));
-}
-
-void Simulation::breakOverloadedGlue() {
-    if (glue_.empty()) return;
-    const bool first = !stress_;
-    if (first) buildStressModel();
-    for (std::size_t i = 0; i < n_; ++i)  // the weights, in the rest frames
-        frameLoads_.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
-    const std::vector<double> stress = stress_->stresses(frameLoads_);
-    std::fill(frameLoads_.force.begin(), frameLoads_.force.end(), glm::dvec3(0.0));
-    std::fill(frameLoads_.torque.begin(), frameLoads_.torque.end(), glm::dvec3(0.0));
-    bool broke = false;
-    for (std::size_t i = 0; i < glue_.size(); ++i) {
-        if (first) glue_[i].restStress = stress[i];
-        btTypedConstraint& joint = *w_.constraints[i];
-        if (!joint.isEnabled() || stress[i] - glue_[i].restStress <= glue_[i].strength) continue;
-        stress_->breakLink(i);
-        joint.setEnabled(false);
-        joint.getRigidBodyA().activate(true);
-        joint.getRigidBodyB().activate(true);
-        broke = true;
+        loads.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
+    std::vector<bool> active = touched ? *touched : std::vector<bool>(n_ + 1, true);
+    bool any = false;
+    for (;;) {
+        const std::vector<double> stress = stress_->stresses(loads, &active);
+        std::vector<double> over(glue_.size(), 0.0);  // the stress above rest, in strengths
+        for (std::size_t i = 0; i < glue_.size(); ++i)
+            if (!glue_[i].broken) over[i] = (stress[i] - glue_[i].restStress) / glue_[i].strength;
+        const double front = std::max(1.0, kFront * *std::max_element(over.begin(), over.end()));
+        bool broke = false;
+        for (std::size_t i = 0; i < glue_.size(); ++i) {
+            if (over[i] <= front) continue;
+            glue_[i].broken = true;
+            stress_->breakLink(i);
+            const auto [a, b] = linkEnds(i);
+            active[a] = active[b] = true;
+            if (i < bonds_.size()) result_.breaks.push_back({i, double(step_ + 1) * dt_});
+            broke = true;
+        }
+        if (!broke) break;
+        any = true;
     }
-    if (broke) updateClusters();
+    return any;
+}
+
+// Evaluated when a glued actor was touched: a structure at rest with nothing on it does not
+// change (what a break changes, breakBonds evaluates at once).
+bool Simulation::breakOverloadedGlue() {
+    if (!stress_) return false;
+    NodeLoads loads = zeroLoads(n_ + 1);
+    std::vector<bool> touched(n_ + 1, false);
+    if (!contactLoads(loads, touched)) return false;
+    return breakBonds(std::move(loads), &touched);
 }
 
 double Simulation::totalEnergy() const {
     double e = 0.0;
-    for (std::size_t i = 0; i < n_; ++i) e += energyOf(*w_.bodies[i], info_[i], settings_.gravity);
+    for (std::size_t a = 0; a < actors_.size(); ++a)
+        if (w_.actors[a]) e += energyOf(*w_.actors[a], actors_[a].info, settings_.gravity);
     if (projectile_) e += energyOf(*projectile_, projectileInfo_, settings_.gravity);
     return e;
 }
 
-// A piece's mesh orientation: its body's with the principal frame taken back out.
+// A piece's principal frame in the world: its actor's body frame and its place in it.
+btTransform Simulation::pieceFrame(std::size_t i) const {
+    return w_.actors[actorOf_[i]]->getCenterOfMassTransform() * local_[i];
+}
+
+glm::dvec3 Simulation::pieceVelocity(std::size_t i) const {
+    const btRigidBody& body = *w_.actors[actorOf_[i]];
+    return toGlm(body.getVelocityInLocalPoint(pieceFrame(i).getOrigin() - body.getCenterOfMassPosition()));
+}
+
+// A piece's mesh orientation: its principal frame's with the principal frame at rest taken back out.
 glm::dquat Simulation::meshOrientation(std::size_t i) const {
-    return glm::normalize(toGlm(w_.bodies[i]->getCenterOfMassTransform().getRotation()) * info_[i].toMesh);
+    return glm::normalize(toGlm(pieceFrame(i).getRotation()) * toMesh_[i]);
 }
 
 }  // namespace
@@ -700,6 +1072,8 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     // (Bullet's default is two): rubble at rest costs nothing. A library global, always
     // set to the same value here.
     gDeactivationTime = btScalar(1.0);
+    gCompoundChildShapePairCallback = childrenCollide;
+    gCompoundCompoundChildShapePairCallback = childrenCollide;
     Simulation simulation(pieces, bonds, settings, shapes);
     return simulation.run(progress);
 }

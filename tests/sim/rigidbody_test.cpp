@@ -140,6 +140,167 @@ TEST(Rigidbody, GlueHoldsATowerUpUntilItCollapses) {
     EXPECT_GT(maxDisplacement(loose, 89), 1.0);
 }
 
+// Standing: a glued tower resting on the ground is one fixed body (it does not move at all);
+// without the anchor it is one moving body resting on the ground, and still stands.
+TEST(Rigidbody, AGluedTowerIsOneBodyFixedWhereItStands) {
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
+    SimulationSettings s;
+    s.frames = 90;
+    const SimulationResult fixed = simulate(pieces, smallTower().bonds, s);
+    EXPECT_EQ(fixed.actors, 1u);
+    EXPECT_EQ(fixed.fixedActors, 1u);
+    EXPECT_LT(maxDisplacement(fixed, 89), 1e-6);
+    s.anchor = false;
+    const SimulationResult resting = simulate(pieces, smallTower().bonds, s);
+    EXPECT_EQ(resting.actors, 1u);
+    EXPECT_EQ(resting.fixedActors, 0u);
+    EXPECT_EQ(resting.brokenBonds, 0u);
+    EXPECT_LT(maxDisplacement(resting, 89), 0.02);
+    for (std::size_t i = 1; i < pieces.size(); ++i)  // all of it turned as one, if at all
+        EXPECT_GT(std::abs(glm::dot(orientationAt(resting, 89, i), orientationAt(resting, 89, 0))), 1.0 - 1e-6);
+}
+
+namespace {
+
+RigidPiece boxPiece(glm::vec3 lo, glm::vec3 hi, std::string name) { return pieceFromMesh(makeBox(lo, hi), 500.0, std::move(name)); }
+
+// A bar of two 1 × 0.5 × 0.5 m boxes along x, glued across x = 0.
+std::vector<RigidPiece> twoBoxBar() {
+    return {boxPiece({-1.0f, 2.0f, -0.25f}, {0.0f, 2.5f, 0.25f}, "left"), boxPiece({0.0f, 2.0f, -0.25f}, {1.0f, 2.5f, 0.25f}, "right")};
+}
+const std::vector<Bond> kBarBond{{0, 1, 0.25, {0.0, 2.25, 0.0}, {1.0, 0.0, 0.0}, 0.0}};
+
+}  // namespace
+
+// Splitting: the bar falls as one body; when its bond breaks, the two bodies it splits into
+// keep its velocity, and both go on falling as if nothing happened (Bullet's semi-implicit
+// Euler: after n substeps the drop is g·dt²·n(n+1)/2).
+TEST(Rigidbody, ASplitBodysPiecesKeepItsVelocity) {
+    const std::vector<RigidPiece> bar = twoBoxBar();
+    SimulationSettings s;
+    s.frames = 31;
+    s.ground = false;
+    s.linearDamping = s.angularDamping = 0.0;
+    s.triggerTime = 0.5;
+    s.collapse = true;
+    const SimulationResult r = simulate(bar, kBarBond, s);
+    EXPECT_EQ(r.actors, 3u);  // the bar, then its two pieces
+    ASSERT_EQ(r.breaks.size(), 1u);
+    EXPECT_NEAR(r.breaks[0].time, 0.5, 1e-9);
+    const double dt = 1.0 / 120.0;
+    for (int k = 0; k < r.frames; ++k)
+        for (std::size_t i = 0; i < 2; ++i) {
+            const double n = 4.0 * k;
+            const glm::dvec3 expected = bar[i].centerOfMass - glm::dvec3(0.0, 9.81 * dt * dt * n * (n + 1.0) / 2.0, 0.0);
+            EXPECT_NEAR(positionAt(r, k, i).y, expected.y, 1e-5) << "frame " << k << " piece " << i;
+            EXPECT_LT(glm::length(positionAt(r, k, i) - expected), 1e-3) << "frame " << k << " piece " << i;
+            EXPECT_GT(orientationAt(r, k, i).w, 1.0 - 1e-9);
+        }
+}
+
+// A ball hits the bar's right piece across it, with no gravity. Glued strongly, the bar moves
+// and turns as one rigid body. Glued weakly, the bond breaks before the hit is resolved, so
+// the ball pushes the piece it hits, and the other is only dragged by its friction.
+TEST(Rigidbody, AHitMovesAGluedBarAsOneOrBreaksOffThePieceItHits) {
+    const std::vector<RigidPiece> bar = twoBoxBar();
+    SimulationSettings s;
+    s.frames = 30;
+    s.ground = false;
+    s.gravity = glm::dvec3(0.0);
+    s.triggerTime = 0.0;
+    s.strengthVariation = 0.0;
+    s.projectile = Projectile{{0.5, 2.25, 0.0}, {0.0, 0.0, -1.0}, 200.0, 10.0, 0.2};
+    s.strength = 1e12;
+    const SimulationResult whole = simulate(bar, kBarBond, s);
+    EXPECT_EQ(whole.brokenBonds, 0u);
+    const double length = glm::length(bar[1].centerOfMass - bar[0].centerOfMass);
+    for (int k = 0; k < whole.frames; ++k) {
+        EXPECT_NEAR(glm::length(positionAt(whole, k, 1) - positionAt(whole, k, 0)), length, 1e-4);
+        EXPECT_GT(std::abs(glm::dot(orientationAt(whole, k, 0), orientationAt(whole, k, 1))), 1.0 - 1e-6);
+    }
+    EXPECT_LT(orientationAt(whole, 29, 0).w, std::cos(0.05));  // it turned
+    EXPECT_LT(positionAt(whole, 29, 1).z, bar[1].centerOfMass.z - 0.2);
+
+    s.strength = 1.0;
+    const SimulationResult broken = simulate(bar, kBarBond, s);
+    EXPECT_EQ(broken.brokenBonds, 1u);
+    const double hit = glm::length(positionAt(broken, 29, 1) - bar[1].centerOfMass);
+    const double dragged = glm::length(positionAt(broken, 29, 0) - bar[0].centerOfMass);
+    EXPECT_GT(hit, 1.0);
+    EXPECT_LT(dragged, 0.1 * hit);
+}
+
+// The stress path: an arm of three boxes glued to the side of a column that stands on the
+// ground. A ball dropped on the arm's tip bends it most where it meets the column, so that
+// bond breaks first; the arm then falls away (and breaks further where the ball still bends it).
+TEST(Rigidbody, ALoadOnOneEndBreaksTheBondNearestTheSupportFirst) {
+    std::vector<RigidPiece> pieces{boxPiece({0, 0, 0}, {1, 3, 1}, "column")};
+    std::vector<Bond> bonds;
+    for (std::uint32_t k = 0; k < 3; ++k) {
+        const float x = 1.0f + float(k);
+        pieces.push_back(boxPiece({x, 2, 0}, {x + 1, 3, 1}, "arm_" + std::to_string(k)));
+        bonds.push_back({k, k + 1, 1.0, {x, 2.5, 0.5}, {1.0, 0.0, 0.0}, 0.0});
+    }
+    SimulationSettings s;
+    s.frames = 30;
+    s.groundHeight = 0.0;
+    s.triggerTime = 0.0;
+    s.strengthVariation = 0.0;
+    s.strength = 4e6;
+    s.projectile = Projectile{{3.5, 3.0, 0.5}, {0.0, -1.0, 0.0}, 500.0, 10.0, 0.3};
+    const SimulationResult r = simulate(pieces, bonds, s);
+    ASSERT_FALSE(r.breaks.empty());
+    EXPECT_EQ(r.breaks[0].bond, 0u);
+    EXPECT_LT(positionAt(r, 29, 3).y, 2.0);  // the arm fell
+}
+
+// Two glued blocks standing on the ground are one fixed body, each bonded to the ground. A
+// ball that hits one low shears its bonds, to the ground too, and pushes it away; the other
+// stands.
+TEST(Rigidbody, AHitShearsAPieceOffTheGround) {
+    const std::vector<RigidPiece> pieces{boxPiece({-1.0f, 0.0f, -0.5f}, {0.0f, 1.0f, 0.5f}, "left"),
+                                         boxPiece({0.0f, 0.0f, -0.5f}, {1.0f, 1.0f, 0.5f}, "right")};
+    const std::vector<Bond> bond{{0, 1, 1.0, {0.0, 0.5, 0.0}, {1.0, 0.0, 0.0}, 0.0}};
+    SimulationSettings s;
+    s.frames = 30;
+    s.groundHeight = 0.0;
+    s.triggerTime = 0.0;
+    s.strengthVariation = 0.0;
+    s.strength = 2e5;
+    s.projectile = Projectile{{0.5, 0.4, 0.0}, {0.0, 0.0, -1.0}, 2000.0, 10.0, 0.3};
+    const SimulationResult r = simulate(pieces, bond, s);
+    EXPECT_EQ(r.fixedActors, 1u);
+    EXPECT_EQ(r.brokenBonds, 1u);
+    EXPECT_LT(positionAt(r, 29, 1).z, -0.5);
+    EXPECT_LT(glm::length(positionAt(r, 29, 0) - positionAt(r, 0, 0)), 0.05);
+    s.strength = 2e9;  // too strong to break: the ball bounces off
+    const SimulationResult strong = simulate(pieces, bond, s);
+    EXPECT_EQ(strong.brokenBonds, 0u);
+    EXPECT_EQ(positionAt(strong, 29, 1), positionAt(strong, 0, 1));
+}
+
+// A box resting in the notch of an L-shaped piece lies inside the L's convex hull. The pair
+// never collides: the box falls through the L's foot to the ground, where colliding pushed the
+// two apart.
+TEST(Rigidbody, PiecesWhoseHullsOverlapAtRestDoNotCollide) {
+    Mesh l = makeBox({0.0f, 0.0f, 0.0f}, {2.0f, 0.5f, 1.0f});
+    appendMesh(l, makeBox({0.0f, 0.5f, 0.0f}, {0.5f, 2.0f, 1.0f}), glm::mat4(1.0f));
+    const std::vector<RigidPiece> pieces{pieceFromMesh(l, 500.0, "l"), boxPiece({0.6f, 0.5f, 0.1f}, {1.4f, 1.3f, 0.9f}, "box")};
+    SimulationSettings s;
+    s.frames = 60;
+    s.strength = 0.0;
+    s.groundHeight = 0.0;
+    const SimulationResult r = simulate(pieces, {}, s);
+    EXPECT_EQ(r.overlappingHulls, 1u);
+    EXPECT_LT(r.maxSpeed, 4.0);  // a fall of 0.5 m
+    for (double e : r.energy) EXPECT_LE(e, r.energy.front() + 1e-6 * std::abs(r.energy.front()));
+    EXPECT_NEAR(positionAt(r, 59, 1).y, 0.4, 0.05);  // on the ground
+    // Colliding, the two were pushed apart along z (the shortest way out of the hull): the box
+    // ended at z = 1.33 and the L at 0.31.
+    EXPECT_NEAR(positionAt(r, 59, 1).z, 0.5, 0.15);
+    EXPECT_NEAR(positionAt(r, 59, 0).z, 0.5, 0.05);
+}
+
 TEST(Rigidbody, ProjectileBreaksBondsNearItsTarget) {
     const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
     SimulationSettings s;

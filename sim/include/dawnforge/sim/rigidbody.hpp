@@ -1,8 +1,10 @@
 #pragma once
-// Rigid-body destruction with Bullet 3.24: one body per fractured piece (convex hull,
-// exact mass and principal inertia), glue constraints from the bond graph that break
-// under load, a trigger (projectile, explosion or collapse), a ground plane and static
-// colliders. Fixed time step with substeps; the same inputs give the same transforms.
+// Rigid-body destruction with Bullet 3.24: each set of pieces glued by unbroken bonds is
+// one body (a compound of the pieces' convex hulls, exact mass and inertia), fixed where it
+// rests on the ground or a support; contacts load the bond graph, and a body splits where
+// its bonds fail (the Blast model). A trigger (projectile, explosion or collapse), a ground
+// plane and static colliders. Fixed time step with substeps; the same inputs give the same
+// transforms.
 #include <dawnforge/core/mesh.hpp>
 #include <dawnforge/core/progress.hpp>
 #include <dawnforge/sim/fracture.hpp>
@@ -42,11 +44,12 @@ struct Projectile {
 };
 
 // An outward impulse on every piece whose centre of mass is within `radius` of `center`:
-// impulse · (1 - d/radius)^2, in N·s.
+// impulse · (1 - d/radius)^2 · (m / m̄)^(2/3), in N·s: a piece of the pieces' mean mass m̄ at
+// the centre gets `impulse`, a smaller piece less (as the area it shows to the blast).
 struct Explosion {
     glm::dvec3 center{0.0};
     double radius = 5.0;     // m
-    double impulse = 5e5;    // N·s at the centre
+    double impulse = 5e5;    // N·s at the centre, on a piece of the mean mass
 };
 
 // A flat floor under part of the scene: a horizontal plane at `height` that holds the pieces
@@ -63,7 +66,7 @@ struct SimulationSettings {
     int frames = 120;                 // frame 0 is the rest pose
     double fps = 30.0;
     int substeps = 4;                 // fixed Bullet steps per frame
-    int solverIterations = 20;       // twice Bullet's default: a glued building sags under 2 cm
+    int solverIterations = 20;       // twice Bullet's default (contacts between bodies)
     std::uint64_t seed = 1;           // varies each bond's strength by ±strengthVariation
     glm::dvec3 gravity{0.0, -9.81, 0.0};
     bool ground = true;
@@ -72,6 +75,7 @@ struct SimulationSettings {
     double restitution = 0.1;
     double strength = 1e6;            // glue, Pa: a bond breaks when its stress above its rest stress exceeds this; 0: no glue
     double strengthVariation = 0.2;   // relative, per bond, from the seed
+    bool anchor = true;               // glued pieces resting on the ground or the support hold their set there
     int hullVertices = 48;            // collision hull vertex budget per piece
     double margin = 0.01;             // Bullet collision margin (m); hulls are shrunk by it first
     double linearDamping = 0.02;
@@ -82,6 +86,11 @@ struct SimulationSettings {
     bool collapse = false;            // every bond breaks at the trigger time
     std::vector<Mesh> colliders;      // static triangle meshes, world space
     std::optional<Support> support;   // a floor under part of the scene (the colliders give way there)
+};
+
+struct BondBreak {
+    std::size_t bond = 0;
+    double time = 0.0;  // s, the end of the substep in which it broke
 };
 
 struct SimulationResult {
@@ -100,9 +109,13 @@ struct SimulationResult {
     std::vector<double> energy;
     double injectedEnergy = 0.0;      // J, by the projectile and the explosion
     double groundHeight = 0.0;        // m
-    std::size_t bonds = 0;            // glue constraints made
+    std::size_t bonds = 0;            // bonds glued (0 without glue)
     std::size_t brokenBonds = 0;      // of which broken by the end
     double maxSpeed = 0.0;            // m/s, fastest piece at any frame
+    std::vector<BondBreak> breaks;    // in the order they broke
+    std::size_t actors = 0;           // bodies made for pieces: the first sets, then each split's
+    std::size_t fixedActors = 0;      // of which fixed
+    std::size_t overlappingHulls = 0; // pairs of pieces whose hulls overlap at rest: they never collide
     std::vector<int> hullVertices;    // per piece, after simplification
 };
 
