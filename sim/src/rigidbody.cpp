@@ -402,12 +402,13 @@ private:
     World w_;
     SimulationResult result_;
     std::vector<glm::dquat> toMesh_;        // per piece: its principal frame at rest, conjugated
+    std::vector<btTransform> restFrames_;   // per piece: its principal frame at rest, in the world
     std::vector<GroundLink> ground_;        // the glued pieces that rest on the ground or the support
     std::vector<int> groundOf_;             // per piece: its ground link, or -1
     std::vector<Actor> actors_;             // every actor made, split ones too (their bodies are gone)
     std::vector<std::uint32_t> actorOf_;    // per piece
     std::vector<btTransform> local_;        // per piece: its principal frame in its actor's body frame
-    std::vector<Glue> glue_;                // per bond, when there is glue
+    std::vector<Glue> glue_;                // per bond, then per ground link, when there is glue
     HullOverlaps overlaps_;
     std::unique_ptr<BondStressModel> stress_;  // when there is glue
     btRigidBody* projectile_ = nullptr;
@@ -494,6 +495,7 @@ void Simulation::addHulls() {
         w_.hulls.push_back(std::move(shape));
         result_.hullVertices.push_back(int(hull.points.size()));
         toMesh_.push_back(glm::conjugate(glm::quat_cast(pi.axes)));
+        restFrames_.emplace_back(bt(glm::quat_cast(pi.axes)), bt(pieces_[i].centerOfMass));
     }
 }
 
@@ -581,11 +583,7 @@ std::vector<std::vector<std::uint32_t>> Simulation::connectedSets() const {
 // share a face touch, or overlap by the rounding of their hulls).
 void Simulation::findHullOverlaps() {
     std::vector<btVector3> lo(n_), hi(n_);
-    std::vector<btTransform> rest(n_);
-    for (std::size_t i = 0; i < n_; ++i) {
-        rest[i] = btTransform(bt(glm::conjugate(toMesh_[i])), bt(pieces_[i].centerOfMass));
-        w_.hulls[i]->getAabb(rest[i], lo[i], hi[i]);
-    }
+    for (std::size_t i = 0; i < n_; ++i) w_.hulls[i]->getAabb(restFrames_[i], lo[i], hi[i]);
     std::vector<std::uint32_t> order(n_);
     for (std::uint32_t i = 0; i < n_; ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -601,8 +599,8 @@ void Simulation::findHullOverlaps() {
             btGjkEpaPenetrationDepthSolver epa;
             btGjkPairDetector gjk(w_.hulls[a].get(), w_.hulls[b].get(), &simplex, &epa);
             btGjkPairDetector::ClosestPointInput input;
-            input.m_transformA = rest[a];
-            input.m_transformB = rest[b];
+            input.m_transformA = restFrames_[a];
+            input.m_transformB = restFrames_[b];
             btPointCollector result;
             gjk.getClosestPoints(input, result, nullptr);
             if (result.m_hasResult && result.m_distance < -2.0 * settings_.margin)
@@ -615,10 +613,7 @@ void Simulation::findHullOverlaps() {
 }
 
 void Simulation::addActors() {
-    std::vector<btTransform> frames(n_);
-    for (std::size_t i = 0; i < n_; ++i)
-        frames[i] = btTransform(bt(glm::conjugate(toMesh_[i])), bt(pieces_[i].centerOfMass));
-    for (std::vector<std::uint32_t>& set : connectedSets()) addActor(std::move(set), frames, Motion{}, true);
+    for (std::vector<std::uint32_t>& set : connectedSets()) addActor(std::move(set), restFrames_, Motion{}, true);
 }
 
 // One body for `members` (at `frames`, per piece, world): a lone piece is its hull, a set a
