@@ -90,6 +90,14 @@ Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, doub
     return hull;
 }
 
+// Sleeping, with PhysX's defaults (a wake counter of 0.4 s; a mass-normalised kinetic energy
+// of 0.005 J/kg, 0.1 m/s): a body slower than these for kSleepAfter stops being simulated until
+// something touches it, so rubble at rest costs nothing. Bullet's own thresholds (0.8 m/s,
+// 1 rad/s for 2 s) let a body creep 1.6 m and turn a third of a turn before it sleeps.
+constexpr double kSleepAfter = 0.4;        // s
+constexpr double kSleepSpeed = 0.1;        // m/s
+constexpr double kSleepTurnSpeed = 0.2;    // rad/s
+
 // User indices of bodies: an actor's is its index (>= 0); the others' say what they are.
 constexpr int kStatic = -1;   // ground plane, projectile
 constexpr int kSupport = -2;  // SimulationSettings::support
@@ -372,6 +380,7 @@ private:
     void collapse();
     void explode();
     void launchProjectile();
+    void sleepWhenSlow(btRigidBody& body) const;
     void limitSpin();
     void step();
     void advanceFrame();
@@ -664,6 +673,7 @@ std::uint32_t Simulation::addActor(std::vector<std::uint32_t> members, std::span
     ci.m_linearDamping = btScalar(settings_.linearDamping);
     ci.m_angularDamping = btScalar(settings_.angularDamping);
     auto body = std::make_unique<btRigidBody>(ci);
+    sleepWhenSlow(*body);
     body->setUserIndex(int(id));
     if (!actor.fixed) {
         body->setLinearVelocity(bt(parent.linear + glm::cross(parent.angular, center - parent.center)));
@@ -788,6 +798,13 @@ void Simulation::explode() {
     result_.injectedEnergy += totalEnergy() - before;
 }
 
+void Simulation::sleepWhenSlow(btRigidBody& body) const {
+    if (settings_.sleep)
+        body.setSleepingThresholds(btScalar(kSleepSpeed), btScalar(kSleepTurnSpeed));
+    else
+        body.setActivationState(DISABLE_DEACTIVATION);
+}
+
 void Simulation::launchProjectile() {
     const Projectile& p = *settings_.projectile;
     const glm::dvec3 dir = glm::normalize(p.direction);
@@ -806,6 +823,7 @@ void Simulation::launchProjectile() {
     ci.m_friction = btScalar(settings_.friction);
     ci.m_restitution = btScalar(settings_.restitution);
     auto body = std::make_unique<btRigidBody>(ci);
+    sleepWhenSlow(*body);
     body->setLinearVelocity(bt(dir * p.speed));
     body->setCcdMotionThreshold(btScalar(0.5 * p.radius));
     body->setCcdSweptSphereRadius(btScalar(0.9 * p.radius));
@@ -1063,10 +1081,8 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
                           const SimulationSettings& settings, const ProgressFn& progress) {
     checkSettings(pieces, bonds, settings);
     const PieceShapes shapes = pieceShapes(pieces, settings);
-    // Bodies slower than Bullet's thresholds (0.8 m/s, 1 rad/s) for a second fall asleep
-    // (Bullet's default is two): rubble at rest costs nothing. A library global, always
-    // set to the same value here.
-    gDeactivationTime = btScalar(1.0);
+    // A library global, always set to the same value here (see sleepWhenSlow).
+    gDeactivationTime = btScalar(kSleepAfter);
     gCompoundChildShapePairCallback = childrenCollide;
     gCompoundCompoundChildShapePairCallback = childrenCollide;
     Simulation simulation(pieces, bonds, settings, shapes);

@@ -220,7 +220,8 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
     j["solver"] = {{"iterations", settings.solverIterations}, {"hull_vertices", settings.hullVertices},
                    {"margin", settings.margin},           {"friction", settings.friction},
                    {"restitution", settings.restitution}, {"linear_damping", settings.linearDamping},
-                   {"angular_damping", settings.angularDamping}, {"overlapping_hulls", result.overlappingHulls}};
+                   {"angular_damping", settings.angularDamping}, {"sleep", settings.sleep},
+                   {"overlapping_hulls", result.overlappingHulls}};
     double maxEnergy = result.energy.empty() ? 0.0 : result.energy.front();
     for (double e : result.energy) maxEnergy = std::max(maxEnergy, e);
     j["energy"] = {{"initial", result.energy.empty() ? 0.0 : result.energy.front()},

@@ -464,6 +464,7 @@ TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
     EXPECT_EQ(j["pieces"], 12);
     EXPECT_EQ(j["substeps"], 4);
     EXPECT_EQ(j["triggers"][0]["type"], "projectile");
+    EXPECT_EQ(j["solver"]["sleep"], true);
     EXPECT_EQ(j["piece_names"][0], "piece_0000");
     const auto bin = test::readBytes(dir / "sim" / "transforms.bin");
     ASSERT_EQ(bin.size(), std::size_t(40 * 12 * 7 * 4));
@@ -478,6 +479,18 @@ TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
         EXPECT_EQ(t[i * 7 + 6], 1.0f);
     }
     EXPECT_EQ(test::readBytes(dir / "sim" / "fragments.glb"), test::readBytes(dir / "fracture" / "fragments.glb"));
+}
+
+// --no-sleep keeps every body awake (Rigidbody.RubbleAtRestFallsAsleep tests what that changes)
+// and sim.json says so.
+TEST(CliSimulate, NoSleepIsSaidInSimJson) {
+    TempDir dir;
+    makeFractureFolder(dir);
+    ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames", "5",
+                                  "--no-sleep"})
+                  .exitCode,
+              0);
+    EXPECT_EQ(nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"))["solver"]["sleep"], false);
 }
 
 TEST(CliSimulate, SameBytesOnOneAndTwoThreads) {

@@ -362,6 +362,51 @@ TEST(Rigidbody, ExplosionPushesPiecesAwayFromItsCentre) {
     EXPECT_GT(moved, 0);
 }
 
+// A body moving slower than Bullet's own sleeping threshold (0.8 m/s) keeps moving: only one
+// slower than 0.1 m/s for 0.4 s falls asleep. A 500 kg box in empty space, pushed to 0.4 m/s by
+// an explosion 1 m away, drifts at that speed for 3 s.
+TEST(Rigidbody, ASlowlyDriftingBodyDoesNotFallAsleep) {
+    const std::vector<RigidPiece> pieces{boxPiece({-0.5f, 2.5f, -0.5f}, {0.5f, 3.5f, 0.5f}, "piece_0000")};
+    SimulationSettings s;
+    s.frames = 91;
+    s.gravity = glm::dvec3(0.0);
+    s.ground = false;
+    s.linearDamping = 0.0;
+    s.triggerTime = 0.0;
+    s.explosion = Explosion{{0.0, 2.0, 0.0}, 2.0, 800.0};  // falloff (1 - 1/2)² = 1/4: 200 N·s on 500 kg
+    const SimulationResult r = simulate(pieces, {}, s);
+    const double early = glm::length(positionAt(r, 11, 0) - positionAt(r, 1, 0)) * 3.0;  // m/s over 10 frames
+    const double late = glm::length(positionAt(r, 90, 0) - positionAt(r, 80, 0)) * 3.0;
+    EXPECT_NEAR(early, 0.4, 0.02);
+    EXPECT_NEAR(late, early, 1e-3 * early);
+}
+
+// Rubble at rest sleeps: the unglued tower falls apart (its pieces roll for about 5 s) and,
+// from 8 s on, no piece moves by a single bit from frame to frame. Sleeping changes where the
+// rubble ends up by little: a tumbling collapse is chaotic, so single pieces end up to 27 cm
+// from where they do with every body kept awake, but the pile's centre is within 10 cm.
+TEST(Rigidbody, RubbleAtRestFallsAsleep) {
+    const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
+    SimulationSettings s;
+    s.frames = 300;
+    s.strength = 0.0;
+    const SimulationResult r = simulate(pieces, {}, s);
+    for (int k = 240; k + 1 < r.frames; ++k)
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            ASSERT_EQ(positionAt(r, k + 1, i), positionAt(r, k, i)) << "piece " << i << " frame " << k;
+            ASSERT_EQ(orientationAt(r, k + 1, i), orientationAt(r, k, i)) << "piece " << i << " frame " << k;
+        }
+    s.sleep = false;
+    const SimulationResult awake = simulate(pieces, {}, s);
+    EXPECT_GT(maxDisplacement(r, r.frames - 1), 0.5);  // it did fall apart
+    glm::dvec3 asleepMean(0.0), awakeMean(0.0);
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+        asleepMean += positionAt(r, r.frames - 1, i) / double(pieces.size());
+        awakeMean += positionAt(awake, r.frames - 1, i) / double(pieces.size());
+    }
+    EXPECT_LT(glm::length(asleepMean - awakeMean), 0.1);  // measured 3.2 cm
+}
+
 // Many seeds, projectiles from several directions: finite, above the ground, no energy gain.
 TEST(Rigidbody, StableOverManySeeds) {
     FractureSettings f;

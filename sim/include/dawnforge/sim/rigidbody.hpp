@@ -76,6 +76,7 @@ struct SimulationSettings {
     double strength = 1e6;            // glue, Pa: a bond breaks when its stress above its rest stress exceeds this; 0: no glue
     double strengthVariation = 0.2;   // relative, per bond, from the seed
     bool anchor = true;               // glued pieces resting on the ground or the support hold their set there
+    bool sleep = true;                // bodies slower than 0.1 m/s and 0.2 rad/s for 0.4 s stop being simulated until hit
     int hullVertices = 48;            // collision hull vertex budget per piece
     double margin = 0.01;             // Bullet collision margin (m); hulls are shrunk by it first
     double linearDamping = 0.02;
