@@ -13,7 +13,8 @@
 #   with `--no-anchor` (the glued sphere as one moving body resting on the ground, not fixed).
 # - loose cubes: 500 0.5 m cubes settling, 120 frames, 10 iterations, 4 substeps
 #   (peers/blender_cubes.py; dawnforge on the same cubes as a fracture folder made by
-#   peers/cube_stack_fracture_dir.py, with --ground-height 0).
+#   peers/cube_stack_fracture_dir.py, with --ground-height 0), and again with --no-sleep (every
+#   body simulated to the last frame, as Blender does).
 # Blender times its bake operator alone; dawnforge is timed as a whole process (reading, hulls,
 # simulation, writing). Prints the binary it ran, one line per case with both times and the ratio,
 # then sanity figures: bonds broken (dawnforge's count, and for both sides the bonds whose anchors
@@ -72,6 +73,15 @@ b=$(blender_seconds blender_cubes.py 500 120 -)
 cp "$work/blender.json" "$work/blender-cubes.json"
 o=$(dawnforge_seconds simulate "$work/cubes-500" -o "$work/sim-cubes" --frames 120 --iterations 10 --substeps 4 --ground-height 0)
 row "loose cubes" 500 0 120 "$b" "$o"
+o0=$o
+# The same cubes with every body kept awake to the last frame, as Blender's bake keeps them
+# (its rigid-body world does not deactivate bodies by default): the cost of a frame of the same
+# work on both sides.
+o=$(dawnforge_seconds simulate "$work/cubes-500" -o "$work/sim-cubes-awake" --frames 120 --iterations 10 --substeps 4 --ground-height 0 --no-sleep)
+row "  --no-sleep" 500 0 120 "$b" "$o"
+# And Blender with its bodies deactivating, at Bullet's default thresholds (after Bullet's 2 s).
+b=$(blender_seconds blender_cubes.py 500 120 - sleep)
+row "  Blender asleep" 500 0 120 "$b" "$o0"
 
 # Sanity: what each side's bodies did. dawnforge's transforms.bin is frames x pieces x
 # (px py pz qx qy qz qw) float32, Y up; frame 0 is the rest pose (ARCHITECTURE.md 4.3).

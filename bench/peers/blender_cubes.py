@@ -2,13 +2,16 @@
 #
 # Usage:
 #   blender -b --factory-startup --python-exit-code 1 \
-#       --python blender_cubes.py -- N_PIECES FRAMES OUT_JSON
+#       --python blender_cubes.py -- N_PIECES FRAMES OUT_JSON [sleep]
 #
 # Scene: N_PIECES active rigid bodies, 0.5 m cubes (8-vertex meshes, collision
 # shape CONVEX_HULL, margin default), laid out as a 10 x 10 x ceil(N/100) grid
 # (0.55 m pitch, i.e. 5 cm gaps; bottom layer 5 cm above the ground), with a
 # small seeded random rotation/offset so the stack actually settles and
-# collides; a passive BOX ground (40 m x 40 m x 1 m slab).
+# collides; a passive BOX ground (40 m x 40 m x 1 m slab). Blender's default
+# is never to deactivate a body; with `sleep` the bodies deactivate below
+# Bullet's default thresholds (0.8 m/s, 1 rad/s) for Bullet's 2 s, which
+# Blender does not expose (dawnforge: 0.1 m/s, 0.2 rad/s for 0.4 s).
 # rigidbody_world: substeps_per_frame=4, solver_iterations=10, 30 fps,
 # scene + point-cache frame range 1..FRAMES.
 # Timed: bpy.ops.ptcache.bake_all(bake=True) alone (time.perf_counter).
@@ -26,49 +29,27 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from peer_report import report  # noqa: E402
+from blender_scene import add_rigid_bodies, box_mesh, empty_scene, report, rigid_body_world  # noqa: E402
 from mathutils import Vector
 
 
 def parse_args():
     argv = sys.argv
     argv = argv[argv.index("--") + 1:] if "--" in argv else []
-    if len(argv) < 2:
-        sys.stderr.write("usage: ... -- N_PIECES FRAMES [OUT_JSON|-]\n")
+    if len(argv) < 2 or (len(argv) > 3 and argv[3] != "sleep"):
+        sys.stderr.write("usage: ... -- N_PIECES FRAMES [OUT_JSON|-] [sleep]\n")
         sys.exit(2)
-    return int(argv[0]), int(argv[1]), (argv[2] if len(argv) > 2 else "-")
-
-
-def cube_mesh(name, half):
-    h = half
-    verts = [(-h, -h, -h), (h, -h, -h), (h, h, -h), (-h, h, -h),
-             (-h, -h, h), (h, -h, h), (h, h, h), (-h, h, h)]
-    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4),
-             (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
-    me = bpy.data.meshes.new(name)
-    me.from_pydata(verts, [], faces)
-    me.update()
-    return me
+    return int(argv[0]), int(argv[1]), (argv[2] if len(argv) > 2 else "-"), len(argv) > 3
 
 
 def main():
-    n, frames, out_json = parse_args()
+    n, frames, out_json, sleep = parse_args()
     rng = random.Random(12345)
-    scene = bpy.context.scene
-
-    for ob in list(bpy.data.objects):
-        bpy.data.objects.remove(ob, do_unlink=True)
-
-    scene.render.fps = 30
-    scene.render.fps_base = 1.0
-    scene.frame_start = 1
-    scene.frame_end = frames
-    scene.frame_set(1)
-
+    scene = empty_scene(frames, 30)
     coll = scene.collection
 
     # ground: passive box slab, top face at z = 0
-    ground = bpy.data.objects.new("ground", cube_mesh("ground", 0.5))
+    ground = bpy.data.objects.new("ground", box_mesh("ground", 0.5))
     ground.scale = (40.0, 40.0, 1.0)
     ground.location = (0.0, 0.0, -0.5)
     coll.objects.link(ground)
@@ -77,7 +58,7 @@ def main():
     pitch = 0.55
     side = 10
     layers = int(math.ceil(n / float(side * side)))
-    shared = cube_mesh("piece", size / 2.0)  # shared mesh data; each object is its own body
+    shared = box_mesh("piece", size / 2.0)  # shared mesh data; each object is its own body
     pieces = []
     for i in range(n):
         layer, rem = divmod(i, side * side)
@@ -97,30 +78,17 @@ def main():
     view_layer.update()
 
     # rigid body world + bodies (setup is not timed)
-    if scene.rigidbody_world is None:
-        bpy.ops.rigidbody.world_add()
-    rbw = scene.rigidbody_world
-    rbw.enabled = True
-    rbw.substeps_per_frame = 4
-    rbw.solver_iterations = 10
-    rbw.time_scale = 1.0
-    rbw.point_cache.frame_start = 1
-    rbw.point_cache.frame_end = frames
-
-    bpy.ops.object.select_all(action='DESELECT')
-    for ob in pieces:
-        ob.select_set(True)
-    view_layer.objects.active = pieces[0]
-    bpy.ops.rigidbody.objects_add(type='ACTIVE')
+    rbw = rigid_body_world(scene, frames, substeps=4, iterations=10)
+    add_rigid_bodies(pieces, 'ACTIVE')
     for ob in pieces:
         rb = ob.rigid_body
         rb.collision_shape = 'CONVEX_HULL'
         rb.mass = 1.0
+        rb.use_deactivation = sleep
+        rb.deactivate_linear_velocity = 0.8
+        rb.deactivate_angular_velocity = 1.0
 
-    bpy.ops.object.select_all(action='DESELECT')
-    ground.select_set(True)
-    view_layer.objects.active = ground
-    bpy.ops.rigidbody.objects_add(type='PASSIVE')
+    add_rigid_bodies([ground], 'PASSIVE')
     ground.rigid_body.collision_shape = 'BOX'
 
     n_bodies = len(rbw.collection.objects) if rbw.collection else 0
@@ -145,6 +113,7 @@ def main():
         "bodies_in_world": n_bodies,
         "substeps_per_frame": rbw.substeps_per_frame,
         "solver_iterations": rbw.solver_iterations,
+        "deactivation": sleep,
         "fps": scene.render.fps,
         "cache_baked": bool(pc.is_baked),
         "cache_frames": [pc.frame_start, pc.frame_end],
