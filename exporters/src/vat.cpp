@@ -325,12 +325,27 @@ EngineBounds engineBounds(const Vat& vat, const Engine& engine) {
 // each corner with 1 cm legs pointing inwards (as the Labs HDA makes them: an importer that
 // drops degenerate triangles, as Unreal's does by default, keeps them): lookup UV (0, 0)
 // (V flipped), piece id = pieces.
+// A corner (glTF axes, metres) in float, rounded away from the bounds' inside as the engine
+// sees them (its axes may mirror ours): the Labs Unreal material reads the active area from
+// ceil(min) − min in decimetres, which a min on a whole decimetre that float rounded up by a
+// hair (−32.1 m is −32.0999985 m) turns from 0 into 1, and then no frame plays.
+glm::vec3 outwardFloat(const glm::dvec3& p, double inward, const glm::dmat3& axes) {
+    glm::vec3 f(p);
+    for (int a = 0; a < 3; ++a) {
+        const double in = inward * (axes[a][0] + axes[a][1] + axes[a][2]);  // along engine's axis: + for the min
+        if ((double(f[a]) - p[a]) * in > 0.0)
+            f[a] = std::nextafter(f[a], in > 0.0 ? -std::numeric_limits<float>::infinity() : std::numeric_limits<float>::infinity());
+    }
+    return f;
+}
+
 void appendDataTriangles(Mesh& out, const EngineBounds& bounds, const Engine& engine, std::size_t pieces) {
     Mesh data;
     for (const auto& [corner, inward] : {std::pair{bounds.encodedHi, -1.0}, std::pair{bounds.encodedLo, 1.0}}) {
         const glm::dvec3 p = glm::transpose(engine.axes) * corner / engine.scale;  // back to glTF axes, metres
         const std::uint32_t base = std::uint32_t(data.positions.size());
-        for (const glm::dvec3& leg : {glm::dvec3(0.0), glm::dvec3(0, 0.01, 0), glm::dvec3(0, 0, 0.01)})
+        data.positions.push_back(outwardFloat(p, inward, engine.axes));
+        for (const glm::dvec3& leg : {glm::dvec3(0, 0.01, 0), glm::dvec3(0, 0, 0.01)})
             data.positions.push_back(glm::vec3(p + inward * leg));
         data.indices.insert(data.indices.end(), {base, base + 1, base + 2});
     }

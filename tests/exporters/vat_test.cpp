@@ -596,6 +596,39 @@ TEST(Vat, EngineBoundsCarryTheLabsCodesOnHoudinisAxes) {
     EXPECT_TRUE(test::contains(inputErrorOf([&] { encodeVat(VatAnimation{many, identity, 1, 30.0}, tooTall); }), "at most 1980"));
 }
 
+// Found by consumers.vat when a simulation's bounds changed: the Labs Unreal material reads the
+// active area from ceil(min) − min of the bounds in decimetres, in float, so a min on a whole
+// decimetre that float rounds up by a hair (−32.1 m → −32.0999985 m) read an active area of 0
+// and played nothing. The data triangles' corners are rounded outwards: over pieces moved to
+// bounds from 10 to 40 m from the origin, the material reads every code as written.
+TEST(Vat, EngineBoundsCodesSurviveFloatFarFromTheOrigin) {
+    const Mesh box = makeBox({-0.1f, -0.1f, -0.1f}, {0.1f, 0.1f, 0.1f});
+    VatSettings settings;
+    settings.preset = VatPreset::Unreal;
+    settings.maxWidth = 2;  // 3 pieces: R = 2
+    for (int step = 0; step < 300; ++step) {
+        const float d = 10.0f + 0.1f * float(step) + 0.03f;  // the box's centre; its bounds snap to the 0.1 m grid
+        std::vector<float> transforms;
+        for (int k = 0; k < 2; ++k)
+            for (const float x : {-d, 0.0f, d}) transforms.insert(transforms.end(), {x, -d + 0.5f * x, -d, 0, 0, 0, 1});
+        const Vat vat = encodeVat(VatAnimation{std::vector<Mesh>(3, box), transforms, 2, 30.0}, settings);
+        // The bounds as Unreal sees the mesh: (x, z, y) · 100 cm, and as the material reads them.
+        glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (const glm::vec3& p : vat.mesh.positions) {
+            const glm::vec3 e = 100.0f * glm::vec3(p.x, p.z, p.y);
+            lo = glm::min(lo, e), hi = glm::max(hi, e);
+        }
+        const auto read = [](float cm) { return std::round(cm / 1e-4f) * 1e-4f * 0.1f; };  // decimetres
+        const glm::vec3 bmin(read(lo.x), read(lo.y), read(lo.z)), bmax(read(hi.x), read(hi.y), read(hi.z));
+        SCOPED_TRACE("centre " + std::to_string(d) + " m");
+        EXPECT_GT(1.0f - (std::ceil(bmin.y) - bmin.y), 0.999f) << "active area, v";
+        EXPECT_GT(1.0f - (std::ceil(bmin.x) - bmin.x), 0.999f) << "active area, u";
+        EXPECT_EQ(std::round(100.0f * (std::ceil(bmin.z) - bmin.z)), 2.0f) << "rows per frame";
+        EXPECT_NEAR(bmax.y - std::floor(bmax.y), 0.5f, 1e-3f) << "HDR code";
+        EXPECT_LT(1.0f / (1.0f - (bmax.z - std::floor(bmax.z))), 1.001f) << "largest pscale";
+    }
+}
+
 // --full-precision-uvs: Unreal's pivots unencoded (the material's "TexCoord[2].y = 0" form),
 // exact; refused for the other presets.
 TEST(Vat, UnrealFullPrecisionUvsCarryThePivotsExactly) {
