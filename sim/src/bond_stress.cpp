@@ -141,22 +141,49 @@ std::unique_ptr<BondStressModel::Factor> BondStressModel::factor(std::uint32_t r
     return f;
 }
 
+// The rigid motion a free group's loads give it: the acceleration a of its centre of mass c
+// and α = I⁻¹·T, T the loads' torque about c and I the group's inertia there. Taking each
+// node's inertial force m·(a + α × r) and torque I_node·α (r = x − c) out of its loads leaves
+// no force and no torque on the group (the rotation's centripetal part is left out: the
+// model's displacements are small).
+BondStressModel::RigidMotion BondStressModel::motion(std::uint32_t root, const NodeLoads& loads) const {
+    const std::vector<std::uint32_t>& members = members_[root];
+    RigidMotion m;
+    double mass = 0.0;
+    glm::dvec3 force(0.0);
+    for (std::uint32_t i : members) mass += nodes_[i].mass, m.centre += nodes_[i].mass * nodes_[i].position, force += loads.force[i];
+    if (!(mass > 0.0)) return {};
+    m.centre /= mass;
+    glm::dvec3 torque(0.0);
+    glm::dmat3 inertia(0.0);
+    for (std::uint32_t i : members) {
+        const glm::dvec3 r = nodes_[i].position - m.centre;
+        torque += loads.torque[i] + glm::cross(r, loads.force[i]);
+        inertia += nodes_[i].inertia + nodes_[i].mass * (glm::dot(r, r) * glm::dmat3(1.0) - glm::outerProduct(r, r));
+    }
+    // Point masses in a line have no inertia about it: a billionth of the trace keeps I
+    // invertible, and a torque about that line stays with the node that holds the group.
+    const double trace = inertia[0][0] + inertia[1][1] + inertia[2][2];
+    m.linear = force / mass;
+    m.angular = glm::inverse(inertia + 1e-9 * std::max(trace, 1e-30) * glm::dmat3(1.0)) * torque;
+    return m;
+}
+
 // One group's links' stresses into `out`. A group with no held node falls or flies as a
-// whole: its own inertia balances its mean load.
+// whole: its own inertia balances its loads.
 void BondStressModel::solve(std::uint32_t root, const NodeLoads& loads, std::vector<double>& out) {
     const std::vector<std::uint32_t>& members = members_[root];
     std::unique_ptr<Factor>& f = factors_[root];
     if (!f) f = factor(root);
     const bool held = std::any_of(members.begin(), members.end(), [&](std::uint32_t i) { return nodes_[i].held; });
-    glm::dvec3 mean(0.0);
-    double mass = 0.0;
-    for (std::uint32_t i : members) mean += loads.force[i], mass += nodes_[i].mass;
-    mean = held || !(mass > 0.0) ? glm::dvec3(0.0) : mean / mass;
+    const RigidMotion m = held ? RigidMotion{} : motion(root, loads);
     Vector rhs(Eigen::Index(6 * members.size()));
     for (std::size_t k = 0; k < members.size(); ++k) {
-        const glm::dvec3 force = loads.force[members[k]] - nodes_[members[k]].mass * mean;
+        const StressNode& node = nodes_[members[k]];
+        const glm::dvec3 force = loads.force[members[k]] - node.mass * (m.linear + glm::cross(m.angular, node.position - m.centre));
+        const glm::dvec3 torque = loads.torque[members[k]] - node.inertia * m.angular;
         for (int d = 0; d < 3; ++d)
-            rhs[Eigen::Index(6 * k + d)] = force[d], rhs[Eigen::Index(6 * k + 3 + d)] = loads.torque[members[k]][d];
+            rhs[Eigen::Index(6 * k + d)] = force[d], rhs[Eigen::Index(6 * k + 3 + d)] = torque[d];
     }
     const Vector u = f->ldlt.solve(rhs);
     std::map<std::uint32_t, Eigen::Index> row;

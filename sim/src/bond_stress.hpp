@@ -28,6 +28,7 @@ struct StressNode {
     glm::dvec3 position{0.0};  // centre of mass at rest
     double mass = 0.0;
     bool held = false;         // resting on the ground or a support: does not move
+    glm::dmat3 inertia{0.0};   // about the centre of mass, in the rest frame
 };
 
 struct StressLink {
@@ -57,8 +58,9 @@ public:
     // with the shear of the shear force and the torsion (|F_t|/A + 2·M_t/(A·r)), of a round
     // section of the link's area A and radius r. Brittle materials fail where it exceeds their
     // strength (Rankine); a bond only pressed reads 0. A group
-    // of nodes joined by links with no held node is balanced by its own inertia (the mean
-    // acceleration of the group is taken out of its loads) and held at its first node.
+    // of nodes joined by links with no held node is balanced by its own inertia (the rigid
+    // motion its loads give it, linear and angular, is taken out of them) and held at its
+    // first node, which then carries nothing.
     // Groups are independent: with `active` (per node), only the groups with an active node
     // are solved, and the links of the others read 0.
     std::vector<double> stresses(const NodeLoads& loads, const std::vector<bool>* active = nullptr);
@@ -67,6 +69,10 @@ private:
     struct Factor;
     void group();
     std::unique_ptr<Factor> factor(std::uint32_t root) const;
+    struct RigidMotion {
+        glm::dvec3 centre{0.0}, linear{0.0}, angular{0.0};  // centre of mass, its acceleration, the angular one
+    };
+    RigidMotion motion(std::uint32_t root, const NodeLoads& loads) const;
     void solve(std::uint32_t root, const NodeLoads& loads, std::vector<double>& out);
 
     std::vector<StressNode> nodes_;

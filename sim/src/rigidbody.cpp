@@ -913,7 +913,7 @@ void Simulation::recordTurns(int frame) {
 void Simulation::buildStressModel() {
     if (glue_.empty()) return;
     std::vector<StressNode> nodes(n_ + 1);  // the pieces, then the ground
-    for (std::size_t i = 0; i < n_; ++i) nodes[i] = {pieces_[i].centerOfMass, pieces_[i].mass, false};
+    for (std::size_t i = 0; i < n_; ++i) nodes[i] = {pieces_[i].centerOfMass, pieces_[i].mass, false, pieces_[i].inertia};
     nodes[n_] = {glm::dvec3(0.0), 0.0, true};
     std::vector<StressLink> links;
     links.reserve(glue_.size());

@@ -62,6 +62,30 @@ TEST(BondStress, AFallingGroupCarriesNoWeightAndABrokenBondNothing) {
     EXPECT_GT(after[1], 4000.0 / 0.2);  // all the pull, and the bending of carrying it off-centre
 }
 
+// A free group's own inertia balances its loads, turning as well as moving: a dumbbell of two
+// point masses struck across one end turns about the other end, and their bond carries
+// nothing; three in a line struck across one end, each bond carries the force that moves
+// the masses beyond it (F/6 across), and bends as much as it takes to turn them. Before the
+// turning was taken out, the torque went through the bonds to the first node.
+TEST(BondStress, AStruckFreeGroupTurnsAsWellAsMoves) {
+    const NodeLoads strike{{glm::dvec3(0.0), {0, 600, 0}}, {glm::dvec3(0.0), glm::dvec3(0.0)}};
+    BondStressModel dumbbell({{{-1, 0, 0}, 10.0, false}, {{1, 0, 0}, 10.0, false}}, {{0, 1, {0, 0, 0}, {1, 0, 0}, 0.1}});
+    EXPECT_NEAR(dumbbell.stresses(strike)[0], 0.0, 1e-6 * 600.0 / 0.1);  // of F/A
+
+    const double area = 0.1, r = std::sqrt(area / glm::pi<double>());
+    BondStressModel bar({{{-2, 0, 0}, 10.0, false}, {{0, 0, 0}, 10.0, false}, {{2, 0, 0}, 10.0, false}},
+                        {{0, 1, {-1, 0, 0}, {1, 0, 0}, area}, {1, 2, {1, 0, 0}, {1, 0, 0}, area}});
+    const NodeLoads end{{glm::dvec3(0.0), glm::dvec3(0.0), {0, 600, 0}}, std::vector<glm::dvec3>(3, glm::dvec3(0.0))};
+    const std::vector<double> s = bar.stresses(end);
+    // a = F/3m, α = F·2/(m·8): the far mass accelerates by a − 2α = −F/6m, the middle by F/3m.
+    // Bond 0 moves the far mass (shear F/6) 1 m away (moment F/6); bond 1 moves both (shear
+    // F/6), their moment about its point is −F/6·3 + F/3·1 = −F/6.
+    const double tau = 100.0 / area, sigma = 4.0 * 100.0 / (area * r);
+    const double expected = 0.5 * sigma + std::sqrt(0.25 * sigma * sigma + tau * tau);
+    EXPECT_NEAR(s[0], expected, 1e-6 * expected);
+    EXPECT_NEAR(s[1], expected, 1e-6 * expected);
+}
+
 // Groups are separate systems: solving only the loaded one gives its bonds the same stresses
 // as solving all, and the others read 0; a break in one group leaves the other's as they were.
 TEST(BondStress, GroupsAreSolvedOnTheirOwnAndOnlyWhenActive) {
