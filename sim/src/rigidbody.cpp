@@ -394,6 +394,7 @@ private:
     std::vector<std::vector<std::uint32_t>> connectedSets() const;
     void buildStressModel();
     bool contactLoads(NodeLoads& loads, std::vector<bool>& touched) const;
+    void breakLink(std::size_t link, double time);
     bool breakBonds(NodeLoads loads, const std::vector<bool>* touched);
     bool breakOverloadedGlue();
     double totalEnergy() const;
@@ -758,12 +759,16 @@ void Simulation::trigger() {
 // Every bond, and every ground link, breaks at once.
 void Simulation::collapse() {
     for (std::size_t i = 0; i < glue_.size(); ++i)
-        if (!glue_[i].broken) {
-            glue_[i].broken = true;
-            stress_->breakLink(i);
-            if (i < bonds_.size()) result_.breaks.push_back({i, double(step_) * dt_});
-        }
+        if (!glue_[i].broken) breakLink(i, double(step_) * dt_);
     splitActors();
+}
+
+// A bond or ground link breaks at `time`: the bond graph no longer has it, and a bond's break
+// is recorded.
+void Simulation::breakLink(std::size_t link, double time) {
+    glue_[link].broken = true;
+    stress_->breakLink(link);
+    if (link < bonds_.size()) result_.breaks.push_back({link, time});
 }
 
 // The blast pushes each piece in proportion to the area it shows, (m / m̄)^(2/3) of what a piece
@@ -981,11 +986,9 @@ bool Simulation::breakBonds(NodeLoads loads, const std::vector<bool>* touched) {
         bool broke = false;
         for (std::size_t i = 0; i < glue_.size(); ++i) {
             if (over[i] <= front) continue;
-            glue_[i].broken = true;
-            stress_->breakLink(i);
+            breakLink(i, double(step_ + 1) * dt_);
             const auto [a, b] = linkEnds(i);
             active[a] = active[b] = true;
-            if (i < bonds_.size()) result_.breaks.push_back({i, double(step_ + 1) * dt_});
             broke = true;
         }
         if (!broke) break;
