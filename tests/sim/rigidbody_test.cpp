@@ -170,6 +170,17 @@ std::vector<RigidPiece> twoBoxBar() {
 }
 const std::vector<Bond> kBarBond{{0, 1, 0.25, {0.0, 2.25, 0.0}, {1.0, 0.0, 0.0}, 0.0}};
 
+// 30 frames of `ball` launched at once into bonds all of `strength`.
+SimulationSettings ballHit(const Projectile& ball, double strength) {
+    SimulationSettings s;
+    s.frames = 30;
+    s.triggerTime = 0.0;
+    s.strengthVariation = 0.0;
+    s.strength = strength;
+    s.projectile = ball;
+    return s;
+}
+
 }  // namespace
 
 // Splitting: the bar falls as one body; when its bond breaks, the two bodies it splits into
@@ -203,14 +214,9 @@ TEST(Rigidbody, ASplitBodysPiecesKeepItsVelocity) {
 // the ball pushes the piece it hits, and the other is only dragged by its friction.
 TEST(Rigidbody, AHitMovesAGluedBarAsOneOrBreaksOffThePieceItHits) {
     const std::vector<RigidPiece> bar = twoBoxBar();
-    SimulationSettings s;
-    s.frames = 30;
+    SimulationSettings s = ballHit(Projectile{{0.5, 2.25, 0.0}, {0.0, 0.0, -1.0}, 200.0, 10.0, 0.2}, 1e12);
     s.ground = false;
     s.gravity = glm::dvec3(0.0);
-    s.triggerTime = 0.0;
-    s.strengthVariation = 0.0;
-    s.projectile = Projectile{{0.5, 2.25, 0.0}, {0.0, 0.0, -1.0}, 200.0, 10.0, 0.2};
-    s.strength = 1e12;
     const SimulationResult whole = simulate(bar, kBarBond, s);
     EXPECT_EQ(whole.brokenBonds, 0u);
     const double length = glm::length(bar[1].centerOfMass - bar[0].centerOfMass);
@@ -241,13 +247,8 @@ TEST(Rigidbody, ALoadOnOneEndBreaksTheBondNearestTheSupportFirst) {
         pieces.push_back(boxPiece({x, 2, 0}, {x + 1, 3, 1}, "arm_" + std::to_string(k)));
         bonds.push_back({k, k + 1, 1.0, {x, 2.5, 0.5}, {1.0, 0.0, 0.0}, 0.0});
     }
-    SimulationSettings s;
-    s.frames = 30;
+    SimulationSettings s = ballHit(Projectile{{3.5, 3.0, 0.5}, {0.0, -1.0, 0.0}, 500.0, 10.0, 0.3}, 4e6);
     s.groundHeight = 0.0;
-    s.triggerTime = 0.0;
-    s.strengthVariation = 0.0;
-    s.strength = 4e6;
-    s.projectile = Projectile{{3.5, 3.0, 0.5}, {0.0, -1.0, 0.0}, 500.0, 10.0, 0.3};
     const SimulationResult r = simulate(pieces, bonds, s);
     ASSERT_FALSE(r.breaks.empty());
     EXPECT_EQ(r.breaks[0].bond, 0u);
@@ -261,13 +262,8 @@ TEST(Rigidbody, AHitShearsAPieceOffTheGround) {
     const std::vector<RigidPiece> pieces{boxPiece({-1.0f, 0.0f, -0.5f}, {0.0f, 1.0f, 0.5f}, "left"),
                                          boxPiece({0.0f, 0.0f, -0.5f}, {1.0f, 1.0f, 0.5f}, "right")};
     const std::vector<Bond> bond{{0, 1, 1.0, {0.0, 0.5, 0.0}, {1.0, 0.0, 0.0}, 0.0}};
-    SimulationSettings s;
-    s.frames = 30;
+    SimulationSettings s = ballHit(Projectile{{0.5, 0.4, 0.0}, {0.0, 0.0, -1.0}, 2000.0, 10.0, 0.3}, 2e5);
     s.groundHeight = 0.0;
-    s.triggerTime = 0.0;
-    s.strengthVariation = 0.0;
-    s.strength = 2e5;
-    s.projectile = Projectile{{0.5, 0.4, 0.0}, {0.0, 0.0, -1.0}, 2000.0, 10.0, 0.3};
     const SimulationResult r = simulate(pieces, bond, s);
     EXPECT_EQ(r.fixedActors, 1u);
     EXPECT_EQ(r.brokenBonds, 1u);
