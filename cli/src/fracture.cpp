@@ -89,14 +89,21 @@ Mesh loadInput(const FractureOptions& options) {
     return mesh;
 }
 
+// How the cells were cut, when some could not be cut the chosen way.
+std::string fallbackNote(const sim::FractureResult& result) {
+    if (result.fallbackCells == 0) return "";
+    return format(", {} of {} cells cut by corefinement (the restricted Voronoi diagram could not close them)",
+                  result.fallbackCells, result.cells);
+}
+
 void printSummary(const FractureOptions& options, const sim::FractureResult& result, double seconds) {
     double total = 0.0;
     for (const sim::FracturePiece& p : result.pieces) total += p.mass.volume;
     std::printf("fractured %s into %zu pieces with %zu bonds in %.2f s\n", options.file.string().c_str(),
                 result.pieces.size(), result.bonds.size(), seconds);
-    std::printf("  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)%s\n", result.inputVolume, total,
+    std::printf("  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)%s%s\n", result.inputVolume, total,
                 std::abs(total - result.inputVolume) / result.inputVolume,
-                result.merged ? format(", {} slivers merged", result.merged).c_str() : "");
+                result.merged ? format(", {} slivers merged", result.merged).c_str() : "", fallbackNote(result).c_str());
     std::printf("  wrote %s and %s\n", (options.outputDir / "fragments.glb").string().c_str(),
                 (options.outputDir / "fracture.json").string().c_str());
 }
@@ -119,8 +126,8 @@ void printBuildingSummary(const FractureOptions& options, const sim::FractureRes
     std::printf("  pieces per material:");
     for (int m = 0; m < kMaterialCount; ++m)
         if (perMaterial[std::size_t(m)]) std::printf(" %s %zu", materialName(std::uint8_t(m)), perMaterial[std::size_t(m)]);
-    std::printf("\n  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)\n", result.inputVolume, total,
-                std::abs(total - result.inputVolume) / result.inputVolume);
+    std::printf("\n  volume %.6g m^3, pieces add up to %.6g (relative error %.1e)%s\n", result.inputVolume, total,
+                std::abs(total - result.inputVolume) / result.inputVolume, fallbackNote(result).c_str());
     std::printf("  wrote %s and %s\n", (options.outputDir / "fragments.glb").string().c_str(),
                 (options.outputDir / "fracture.json").string().c_str());
 }
@@ -213,6 +220,13 @@ void addPieceOptions(CLI::App& cmd, sim::FractureSettings& s) {
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd.add_option("--voxel", s.voxelSize, "Level-set voxel size (m) for --roughness; 0: automatic")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
+    const std::map<std::string, sim::FractureMethod> methods{{"rvd", sim::FractureMethod::Rvd},
+                                                             {"corefine", sim::FractureMethod::Corefine}};
+    cmd.add_option("--method", s.method,
+                   "How cells cut the mesh: rvd (the restricted Voronoi diagram, in one pass; a cell it cannot close "
+                   "falls back to corefine) or corefine (one CGAL corefinement per cell, slower)")
+        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
+        ->default_str("rvd");
 }
 
 void addBuildingOptions(CLI::App& cmd, FractureOptions& o) {

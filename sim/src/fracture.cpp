@@ -14,6 +14,7 @@
 #include "piece_surface.hpp"
 #include "pieces.hpp"
 #include "rough.hpp"
+#include "rvd.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -162,6 +163,7 @@ struct Input {
     const std::vector<detail::PlaneKey>* planes;  // per input triangle: the cut plane it lies on, or none
     SM sm;
     CGAL::Bbox_3 bbox;
+    std::optional<CGAL::Side_of_triangle_mesh<SM, K>> inside{};  // made where the Input stays (it refers to sm)
 };
 
 // `exact`: the vertices' positions in double (a re-fractured piece's grid points), or empty
@@ -273,7 +275,7 @@ SeedGrid seedGrid(const Input& in, const CGAL::Side_of_triangle_mesh<SM, K>& ins
 // no triangle). Rejection keeps exactly the points of the volume, so the density is uniform.
 std::vector<glm::dvec3> sampleSeeds(const Input& in, int count, std::uint64_t seed,
                                     const std::optional<glm::dvec3>& impact, double radius, double boost) {
-    const CGAL::Side_of_triangle_mesh<SM, K> inside(in.sm);
+    const CGAL::Side_of_triangle_mesh<SM, K>& inside = *in.inside;
     const SeedGrid grid = seedGrid(in, inside);
     if (grid.candidates.empty()) throw InputError("fracture: the mesh has no interior volume to place seeds in");
     Rng rng(deriveSeed(seed, "fracture-seeds"));
@@ -303,8 +305,9 @@ using DelaunayTds = CGAL::Triangulation_data_structure_3<DelaunayVb>;
 using Delaunay = CGAL::Delaunay_triangulation_3<K, DelaunayTds>;
 
 struct Cells {
-    std::vector<std::vector<CutPlane>> planes;  // per cell
-    std::vector<SM> meshes;
+    std::vector<std::vector<std::uint32_t>> neighbours;  // per cell, sorted: its Delaunay neighbours
+    std::vector<std::vector<CutPlane>> planes;           // per cell: the neighbours' bisectors, then the box
+    std::vector<SM> meshes;                              // per cell, made by buildCellMeshes (corefinement only)
     std::vector<CGAL::Bbox_3> boxes;
 };
 
@@ -321,35 +324,55 @@ struct Metric {
     }
 };
 
+// Every other seed is a neighbour: a superset of the Delaunay neighbours, for few seeds.
+std::vector<std::vector<std::uint32_t>> allNeighbours(std::size_t n) {
+    std::vector<std::vector<std::uint32_t>> neighbours(n);
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t j = 0; j < n; ++j)
+            if (i != j) neighbours[i].push_back(j);
+    return neighbours;
+}
+
+std::vector<std::vector<std::uint32_t>> delaunayNeighbours(const std::vector<glm::dvec3>& seeds, const Metric& metric) {
+    const std::size_t n = seeds.size();
+    if (n <= 8) return allNeighbours(n);
+    std::vector<std::vector<std::uint32_t>> neighbours(n);
+    std::vector<std::pair<Point, std::uint32_t>> points;
+    for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(toPoint(metric.squeeze(seeds[i])), i);
+    Delaunay dt(points.begin(), points.end());
+    if (dt.number_of_vertices() != n) {
+        std::vector<std::uint32_t> order(n);
+        std::iota(order.begin(), order.end(), 0u);
+        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+            return std::tie(seeds[a].x, seeds[a].y, seeds[a].z, a) < std::tie(seeds[b].x, seeds[b].y, seeds[b].z, b);
+        });
+        for (std::size_t k = 1; k < n; ++k)
+            if (seeds[order[k]] == seeds[order[k - 1]])
+                throw InputError(format("fracture: seeds {} and {} are at the same point", order[k - 1], order[k]));
+        throw InputError("fracture: the seeds are repeated");
+    }
+    if (dt.dimension() < 3) return allNeighbours(n);  // coplanar or collinear seeds
+    for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+        std::vector<Delaunay::Vertex_handle> adjacent;
+        dt.finite_adjacent_vertices(v, std::back_inserter(adjacent));
+        for (const auto& w : adjacent) neighbours[v->info()].push_back(w->info());
+        std::sort(neighbours[v->info()].begin(), neighbours[v->info()].end());
+    }
+    return neighbours;
+}
+
 Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bounds, std::int64_t cellBase,
                  const Metric& metric) {
     const std::size_t n = seeds.size();
-    std::vector<std::vector<std::uint32_t>> neighbours(n);
-    if (n <= 8) {  // tiny or degenerate configurations: every other seed is a neighbour
-        for (std::uint32_t i = 0; i < n; ++i)
-            for (std::uint32_t j = 0; j < n; ++j)
-                if (i != j) neighbours[i].push_back(j);
-    } else {
-        std::vector<std::pair<Point, std::uint32_t>> points;
-        for (std::uint32_t i = 0; i < n; ++i) points.emplace_back(toPoint(metric.squeeze(seeds[i])), i);
-        Delaunay dt(points.begin(), points.end());
-        if (dt.dimension() < 3 || dt.number_of_vertices() != n)
-            throw InputError("fracture: the seeds are coplanar or repeated");
-        for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
-            std::vector<Delaunay::Vertex_handle> adjacent;
-            dt.finite_adjacent_vertices(v, std::back_inserter(adjacent));
-            for (const auto& w : adjacent) neighbours[v->info()].push_back(w->info());
-            std::sort(neighbours[v->info()].begin(), neighbours[v->info()].end());
-        }
-    }
     Cells cells;
+    cells.neighbours = delaunayNeighbours(seeds, metric);
     cells.planes.resize(n);
     cells.meshes.resize(n);
     cells.boxes.resize(n);
     const std::vector<CutPlane> bounding = boxPlanes(bounds);
-    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+    for (std::size_t i = 0; i < n; ++i) {
         std::vector<CutPlane>& planes = cells.planes[i];
-        for (std::uint32_t j : neighbours[i]) {
+        for (std::uint32_t j : cells.neighbours[i]) {
             const glm::dvec3 normal = metric.bisectorNormal(seeds[j] - seeds[i]);
             const double len = glm::length(normal);
             if (len == 0.0) throw InputError(format("fracture: seeds {} and {} are at the same point", i, j));
@@ -358,10 +381,17 @@ Cells buildCells(const std::vector<glm::dvec3>& seeds, const CGAL::Bbox_3& bound
                               cellBase + std::int64_t(j)});
         }
         planes.insert(planes.end(), bounding.begin(), bounding.end());
-        cells.meshes[i] = convexCell(planes, -1, toPoint(seeds[i]), i);
+    }
+    return cells;
+}
+
+// The convex polyhedra of cells `ids` (for corefinement and the rough path).
+void buildCellMeshes(Cells& cells, const std::vector<glm::dvec3>& seeds, std::span<const std::uint32_t> ids) {
+    tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t k) {
+        const std::uint32_t i = ids[k];
+        cells.meshes[i] = convexCell(cells.planes[i], -1, toPoint(seeds[i]), i);
         cells.boxes[i] = PMP::bbox(cells.meshes[i]);
     });
-    return cells;
 }
 
 // ---------------------------------------------------------------- the hierarchy
@@ -709,30 +739,21 @@ detail::RawPiece buildPiece(const std::vector<detail::GridTriangle>& part, std::
     return piece;
 }
 
-// The pieces of one cell: its surface in canonical triangles with corners on the grid, welded
-// by grid point, mended (detail::cleanSurface) and split into closed parts: the volumes a
-// cell cuts out of a non-convex mesh, and the parts that rounding left touching.
-std::vector<detail::RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
-                                    std::int64_t ownCell, const FractureSettings& settings) {
-    const auto o = origins(sm);
-    std::vector<Triangle> tris;
-    tris.reserve(sm.number_of_faces());
-    for (Face f : sm.faces()) {
-        Triangle t{{}, o[f]};
-        int k = 0;
-        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
-        tris.push_back(t);
-    }
-    const Snapped point{sm, grid};
-    canonicalTriangulation(point, tris);
+// The pieces of one cell from its triangles (three corners each, counter-clockwise from
+// outside): corners on the grid, welded by grid point, mended (detail::cleanSurface) and split
+// into closed parts: the volumes a cell cuts out of a non-convex mesh, and the parts that
+// rounding left touching.
+std::vector<detail::RawPiece> piecesOf(std::span<const glm::dvec3> corners, std::span<const Origin> triangleOrigins,
+                                       const Grid& grid, const Input& in, const std::vector<CutPlane>& planes,
+                                       std::int64_t ownCell, const FractureSettings& settings) {
     std::vector<glm::i64vec3> points;
     std::map<std::array<std::int64_t, 3>, std::uint32_t> idOf;
     std::vector<detail::GridTriangle> welded;
-    welded.reserve(tris.size());
-    for (const Triangle& t : tris) {
-        detail::GridTriangle g{{}, t.origin};
+    welded.reserve(triangleOrigins.size());
+    for (std::size_t t = 0; t < triangleOrigins.size(); ++t) {
+        detail::GridTriangle g{{}, triangleOrigins[t]};
         for (std::size_t k = 0; k < 3; ++k) {
-            const glm::i64vec3 q = grid.key(toGlm(sm.point(t.v[k])));
+            const glm::i64vec3 q = grid.key(corners[3 * t + k]);
             const auto [it, inserted] = idOf.try_emplace({q.x, q.y, q.z}, std::uint32_t(points.size()));
             if (inserted) points.push_back(q);
             g.v[k] = it->second;
@@ -745,10 +766,48 @@ std::vector<detail::RawPiece> extractPieces(const SM& sm, const Input& in, const
     return pieces;
 }
 
-struct Call {
-    std::vector<detail::RawPiece> pieces;
-    std::vector<glm::dvec3> seeds;
-};
+// The pieces of one cell a corefinement cut, its triangles made canonical first.
+std::vector<detail::RawPiece> extractPieces(const SM& sm, const Input& in, const Grid& grid, const std::vector<CutPlane>& planes,
+                                    std::int64_t ownCell, const FractureSettings& settings) {
+    const auto o = origins(sm);
+    std::vector<Triangle> tris;
+    tris.reserve(sm.number_of_faces());
+    for (Face f : sm.faces()) {
+        Triangle t{{}, o[f]};
+        int k = 0;
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t.v[std::size_t(k++)] = v;
+        tris.push_back(t);
+    }
+    canonicalTriangulation(Snapped{sm, grid}, tris);
+    std::vector<glm::dvec3> corners;
+    std::vector<Origin> triangleOrigins;
+    for (const Triangle& t : tris) {
+        for (Vertex v : t.v) corners.push_back(toGlm(sm.point(v)));
+        triangleOrigins.push_back(t.origin);
+    }
+    return piecesOf(corners, triangleOrigins, grid, in, planes, ownCell, settings);
+}
+
+// The pieces of one cell of the restricted Voronoi diagram: its caps name the seed across, which
+// becomes that neighbour's cut plane.
+std::vector<detail::RawPiece> rvdPieces(const detail::RvdCell& cell, std::span<const Origin> inputOrigins,
+                                        const std::vector<std::uint32_t>& neighbours, const Grid& grid, const Input& in,
+                                        const std::vector<CutPlane>& planes, std::int64_t ownCell,
+                                        const FractureSettings& settings) {
+    std::vector<glm::dvec3> corners;
+    std::vector<Origin> triangleOrigins;
+    for (const detail::RvdCell::Triangle& t : cell.triangles) {
+        for (std::uint32_t v : t.v) corners.push_back(cell.points[v]);
+        if (t.origin >= 0) {
+            triangleOrigins.push_back(inputOrigins[std::size_t(t.origin)]);
+        } else {
+            const auto j = std::uint32_t(-1 - t.origin);
+            const auto plane = std::lower_bound(neighbours.begin(), neighbours.end(), j) - neighbours.begin();
+            triangleOrigins.push_back(-1 - Origin(plane));
+        }
+    }
+    return piecesOf(corners, triangleOrigins, grid, in, planes, ownCell, settings);
+}
 
 // The pieces of the rough path (rough.cpp), as raw pieces with cut groups for bonds.
 // Rough pieces re-mesh the whole surface, so their faces name only the cuts made here: a
@@ -800,47 +859,167 @@ std::vector<detail::RawPiece> roughFracture(const Mesh& mesh, const Cells& cells
     return pieces;
 }
 
+// Everything one fracture call's cells share.
+struct CellJob {
+    const Input& in;
+    const Grid& grid;
+    const FractureSettings& settings;
+    std::int64_t cellBase;
+    CGAL::Bbox_3 box;  // around every cell
+    Metric metric;
+    double diagonal;
+    std::vector<glm::dvec3> seeds;
+    Cells cells;
+    std::vector<std::vector<detail::RawPiece>> perCell;  // per cell: its pieces, in the order of their smallest corner
+
+    CellJob(const Input& input, const Grid& g, const FractureSettings& s, std::int64_t base, std::vector<glm::dvec3> seedPoints)
+        : in(input), grid(g), settings(s), cellBase(base), metric{glm::normalize(s.grain), s.stretch},
+          seeds(std::move(seedPoints)), perCell(seeds.size()) {
+        const CGAL::Bbox_3& b = in.bbox;
+        diagonal = std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) +
+                             std::pow(b.zmax() - b.zmin(), 2));
+        box = expanded(b, 0.01 * diagonal + 1e-6);
+        cells = buildCells(seeds, box, cellBase, metric);
+    }
+};
+
+// Cuts cells `ids` by one corefinement each.
+void corefineCells(CellJob& job, std::span<const std::uint32_t> ids, const ProgressFn& progress) {
+    if (ids.empty()) return;
+    buildCellMeshes(job.cells, job.seeds, ids);
+    std::vector<SM> results(job.seeds.size());
+    if (job.seeds.size() == 1) {  // one cell holds the whole mesh: nothing to cut
+        results[0] = job.in.sm;
+    } else {
+        Hierarchy hierarchy{job.in.sm, job.cells, job.seeds, 1e-3 * job.diagonal + 1e-9, results, progress};
+        hierarchy.process(job.in.sm, std::vector<std::uint32_t>(ids.begin(), ids.end()));
+    }
+    tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t k) {
+        const std::uint32_t i = ids[k];
+        job.perCell[i] = extractPieces(results[i], job.in, job.grid, job.cells.planes[i], job.cellBase + std::int64_t(i),
+                                       job.settings);
+        results[i] = SM();
+    });
+}
+
+// Cuts every cell through the restricted Voronoi diagram; returns the cells it could not close.
+std::vector<std::uint32_t> rvdCells(CellJob& job) {
+    const SM& sm = job.in.sm;
+    std::vector<glm::dvec3> points;
+    for (Vertex v : sm.vertices()) points.push_back(toGlm(sm.point(v)));
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<Origin> inputOrigins;
+    const auto o = origins(sm);
+    for (Face f : sm.faces()) {
+        std::array<std::uint32_t, 3> t{};
+        std::size_t k = 0;
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = std::uint32_t(v);
+        triangles.push_back(t);
+        inputOrigins.push_back(o[f]);
+    }
+    const CGAL::Bbox_3& b = job.box;
+    const detail::RvdSeeds seeds{job.seeds, job.cells.neighbours, {b.xmin(), b.ymin(), b.zmin()},
+                                 {b.xmax(), b.ymax(), b.zmax()}, job.metric.grain, job.metric.stretch};
+    const CGAL::Side_of_triangle_mesh<SM, K>& side = *job.in.inside;
+    const std::vector<detail::RvdCell> rvd = detail::restrictedVoronoi(
+        {points, triangles}, seeds, [&](const glm::dvec3& p) { return side(toPoint(p)) == CGAL::ON_BOUNDED_SIDE; });
+    std::vector<std::uint32_t> failed;
+    for (std::uint32_t i = 0; i < rvd.size(); ++i)
+        if (!rvd[i].closed) failed.push_back(i);
+    tbb::parallel_for(std::size_t(0), rvd.size(), [&](std::size_t i) {
+        if (rvd[i].closed)
+            job.perCell[i] = rvdPieces(rvd[i], inputOrigins, job.cells.neighbours[i], job.grid, job.in,
+                                       job.cells.planes[i], job.cellBase + std::int64_t(i), job.settings);
+    });
+    return failed;
+}
+
+// Whether the pieces' volumes add up to the surface's, up to what rounding the corners to the
+// grid can move (the surface's area times a grid step).
+bool volumesAddUp(const std::vector<std::vector<detail::RawPiece>>& perCell, const SM& sm, const Grid& grid,
+                  double density) {
+    std::vector<glm::dvec3> points;
+    for (Vertex v : sm.vertices()) points.push_back(toGlm(sm.point(v)));
+    std::vector<std::uint32_t> indices;
+    double area = 0.0;
+    for (Face f : sm.faces()) {
+        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) indices.push_back(std::uint32_t(v));
+        const glm::dvec3 a = points[indices[indices.size() - 3]], b = points[indices[indices.size() - 2]];
+        area += 0.5 * glm::length(glm::cross(b - a, points[indices.back()] - a));
+    }
+    double sum = 0.0;
+    for (const auto& list : perCell)
+        for (const detail::RawPiece& p : list) sum += p.mass.mass / density;
+    const double expected = computeMassProperties(points, indices, 1.0).volume;
+    return std::abs(sum - expected) <= 1e-9 * std::abs(expected) + area * std::max({grid.h.x, grid.h.y, grid.h.z});
+}
+
+struct Call {
+    std::vector<detail::RawPiece> pieces;
+    std::vector<glm::dvec3> seeds;
+    std::size_t fallbackCells = 0;
+};
+
+// Seeds in a degenerate position (on a lattice: cells meeting four at an edge and eight at a
+// corner, mesh edges on their bisectors) can leave cells the diagram cannot close by keys, and
+// that CGAL's cell construction refuses as well. Moved by a millionth of the mesh's size, each
+// its own way, they are in general position: cut again with the moved seeds.
+void cutNudged(CellJob& job, const ProgressFn& progress) {
+    Rng rng(deriveSeed(job.settings.seed, "fracture-nudge"));
+    std::vector<glm::dvec3> moved = job.seeds;
+    for (glm::dvec3& p : moved) p += 1e-6 * job.diagonal * glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    CellJob again(job.in, job.grid, job.settings, job.cellBase, std::move(moved));
+    const std::vector<std::uint32_t> failed = rvdCells(again);
+    corefineCells(again, failed, progress);
+    job.seeds = std::move(again.seeds);
+    job.cells = std::move(again.cells);
+    job.perCell = std::move(again.perCell);
+}
+
+// The cells' pieces by the settings' method: the restricted Voronoi diagram, the cells it
+// cannot close by corefinement (or all of them, from nudged seeds, if corefinement refuses
+// one); and all of them by corefinement if the volumes do not add up. Returns how many cells
+// corefinement cut.
+std::size_t cutCells(CellJob& job, const ProgressFn& progress) {
+    std::vector<std::uint32_t> all(job.seeds.size());
+    std::iota(all.begin(), all.end(), 0u);
+    if (job.settings.method == FractureMethod::Corefine) {
+        corefineCells(job, all, progress);
+        return 0;
+    }
+    const std::vector<std::uint32_t> failed = rvdCells(job);
+    const double done = 1.0 - double(failed.size()) / double(all.size());
+    if (!progress(done)) throw Cancelled();
+    try {
+        corefineCells(job, failed, [&](double f) { return progress(done + f); });
+    } catch (const InputError&) {
+        cutNudged(job, noProgress);
+    }
+    if (volumesAddUp(job.perCell, job.in.sm, job.grid, job.settings.density)) return failed.size();
+    corefineCells(job, all, noProgress);
+    return all.size();
+}
+
 // One fracture of one closed mesh into the cells of `seeds`, cells numbered from cellBase.
 // Seeds are settings.points, or sampled from the surface this call builds anyway.
 Call fractureOnce(const Mesh& mesh, const std::vector<detail::PlaneKey>* planes, std::span<const glm::dvec3> exact,
                   std::int64_t cellBase, const Grid& grid, const FractureSettings& settings, const ProgressFn& progress) {
     Input in = makeInput(mesh, planes, exact);
-    std::vector<glm::dvec3> seeds = !settings.points.empty()
-                                        ? settings.points
-                                        : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
-                                                      settings.impactRadius, settings.impactDensity);
-    const CGAL::Bbox_3& b = in.bbox;
-    const double diagonal =
-        std::sqrt(std::pow(b.xmax() - b.xmin(), 2) + std::pow(b.ymax() - b.ymin(), 2) + std::pow(b.zmax() - b.zmin(), 2));
-    const Metric metric{glm::normalize(settings.grain), settings.stretch};
-    const Cells cells = buildCells(seeds, expanded(b, 0.01 * diagonal + 1e-6), cellBase, metric);
-
+    in.inside.emplace(in.sm);
+    Call call;
+    call.seeds = !settings.points.empty() ? settings.points
+                                          : sampleSeeds(in, settings.pieces, settings.seed, settings.impact,
+                                                        settings.impactRadius, settings.impactDensity);
+    CellJob job(in, grid, settings, cellBase, call.seeds);
     if (settings.roughness > 0.0) {
-        Call call;
-        call.pieces = roughFracture(mesh, cells, seeds, cellBase, diagonal, grid, settings);
-        call.seeds = std::move(seeds);
+        std::vector<std::uint32_t> all(call.seeds.size());
+        std::iota(all.begin(), all.end(), 0u);
+        buildCellMeshes(job.cells, job.seeds, all);
+        call.pieces = roughFracture(mesh, job.cells, job.seeds, cellBase, job.diagonal, grid, settings);
         return call;
     }
-
-    std::vector<SM> results(seeds.size());
-    if (seeds.size() == 1) {  // one cell holds the whole mesh: nothing to cut
-        results[0] = in.sm;
-    } else {
-        Hierarchy hierarchy{in.sm, cells, seeds, 1e-3 * diagonal + 1e-9, results, progress};
-        std::vector<std::uint32_t> all(seeds.size());
-        std::iota(all.begin(), all.end(), 0u);
-        hierarchy.process(in.sm, std::move(all));
-    }
-
-    // Pieces in cell order, the parts of a cell in the order of their smallest corner.
-    std::vector<std::vector<detail::RawPiece>> perCell(seeds.size());
-    tbb::parallel_for(std::size_t(0), seeds.size(), [&](std::size_t i) {
-        perCell[i] = extractPieces(results[i], in, grid, cells.planes[i], cellBase + std::int64_t(i), settings);
-        results[i] = SM();
-    });
-    Call call;
-    call.seeds = std::move(seeds);
-    for (auto& list : perCell)
+    call.fallbackCells = cutCells(job, progress);
+    for (auto& list : job.perCell)
         for (detail::RawPiece& p : list) call.pieces.push_back(std::move(p));
     return call;
 }
@@ -856,8 +1035,8 @@ double volumeOf(const Mesh& mesh) {
     return computeMassProperties(points, mesh.indices, 1.0).volume;
 }
 
-void checkInput(const Mesh& mesh) {
-    const MeshReport r = inspectMesh(mesh);
+// Refuses a mesh that does not bound one volume, saying why.
+void checkReport(const MeshReport& r) {
     if (!r.closed) {
         std::string where;
         for (const auto& [a, b] : r.openEdges)
@@ -874,11 +1053,27 @@ void checkInput(const Mesh& mesh) {
     if (!r.volume || *r.volume <= 0.0) throw InputError("the mesh has no volume");
 }
 
+void checkInput(const Mesh& mesh) { checkReport(inspectMesh(mesh)); }
+
+// Turns a closed mesh that is inside out outward (the notes say so), then checks that it bounds
+// a volume. A mesh already outward is inspected once.
+std::vector<std::string> orientAndCheck(Mesh& mesh) {
+    MeshReport r = inspectMesh(mesh);
+    std::vector<std::string> notes;
+    if (!r.consistentlyOriented || !r.outwardOriented) {
+        notes = orientMesh(mesh);
+        if (!notes.empty()) r = inspectMesh(mesh);
+    }
+    checkReport(r);
+    return notes;
+}
+
 }  // namespace
 
 std::vector<glm::dvec3> sampleFractureSeeds(const Mesh& mesh, const FractureSettings& settings) {
     if (settings.pieces < 1) throw InputError(format("the number of pieces must be at least 1 (got {})", settings.pieces));
-    const Input in = makeInput(mesh, nullptr, {});
+    Input in = makeInput(mesh, nullptr, {});
+    in.inside.emplace(in.sm);
     return sampleSeeds(in, settings.pieces, settings.seed, settings.impact, settings.impactRadius,
                        settings.impactDensity);
 }
@@ -917,7 +1112,8 @@ void checkSettings(const FractureSettings& s) {
 // the neighbours it had. A piece of part k is cut with partSettings[k] (its density, grain).
 std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, std::int64_t nextCell, const Grid& grid,
                                          const FractureSettings& settings,
-                                         std::span<const FractureSettings> partSettings, const ProgressFn& progress) {
+                                         std::span<const FractureSettings> partSettings, FractureResult& result,
+                                         const ProgressFn& progress) {
     for (int level = 1; level <= settings.levels && settings.impact; ++level) {
         std::vector<detail::RawPiece> next;
         for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -934,6 +1130,8 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
             sub.seed = deriveSeed(settings.seed, "fracture-level", std::uint64_t(level) << 32 | i);
             Call call = fractureOnce(p.mesh, &p.planes, p.worldPositions, nextCell, grid, sub, noProgress);
             nextCell += std::int64_t(call.seeds.size());
+            result.cells += call.seeds.size();
+            result.fallbackCells += call.fallbackCells;
             for (detail::RawPiece& q : call.pieces) {
                 q.level = std::uint32_t(level);
                 q.part = p.part;
@@ -944,6 +1142,25 @@ std::vector<detail::RawPiece> refracture(std::vector<detail::RawPiece> pieces, s
         if (!progress(double(level) / double(settings.levels))) throw Cancelled();
     }
     return pieces;
+}
+
+// Whether every edge of the mesh, its corners welded by position, is used by exactly one other
+// triangle in the opposite direction: the mesh is closed as the file holds it.
+bool closedByEdges(const Mesh& mesh) {
+    std::map<std::array<float, 3>, std::uint32_t> id;
+    std::vector<std::uint32_t> of;
+    for (const glm::vec3& p : mesh.positions) of.push_back(id.try_emplace({p.x, p.y, p.z}, std::uint32_t(id.size())).first->second);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (std::size_t k = 0; k < 3; ++k)
+            edges.emplace_back(of[mesh.indices[3 * t + k]], of[mesh.indices[3 * t + (k + 1) % 3]]);
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t k = 0; k < edges.size(); ++k) {
+        const auto [a, b] = edges[k];
+        if (a == b || (k + 1 < edges.size() && edges[k + 1] == edges[k])) return false;
+        if (!std::binary_search(edges.begin(), edges.end(), std::pair{b, a})) return false;
+    }
+    return !edges.empty();
 }
 
 // The pieces as written: named in order, every vertex tagged with its piece; their meshes are
@@ -961,7 +1178,7 @@ std::vector<FracturePiece> finalPieces(std::vector<detail::RawPiece>& pieces) {
         piece.mesh = std::move(raw.mesh);
         piece.mesh.name = piece.name;
         piece.mesh.pieceIds.assign(piece.mesh.positions.size(), std::uint32_t(i));
-        piece.closed = inspectMesh(piece.mesh).closed;
+        piece.closed = closedByEdges(piece.mesh);
     });
     return out;
 }
@@ -974,8 +1191,7 @@ FractureResult fractureChecked(const Mesh& input, const FractureSettings& settin
                                 input.triangleCount(), kMaxFractureTriangles));
     FractureResult result;
     Mesh mesh = input;  // a closed mesh turned inside out is unambiguous: turn it outward
-    result.notes = orientMesh(mesh);
-    checkInput(mesh);
+    result.notes = orientAndCheck(mesh);
     result.inputTriangles = mesh.triangleCount();
     result.inputVolume = volumeOf(mesh);
     const Grid grid = gridFor(computeBounds(mesh.positions));
@@ -987,8 +1203,10 @@ FractureResult fractureChecked(const Mesh& input, const FractureSettings& settin
     const double share = 1.0 / double(1 + settings.levels);
     Call top = fractureOnce(mesh, nullptr, {}, 0, grid, settings, [&](double f) { return progress(f * share); });
     result.seeds = top.seeds;
+    result.cells = top.seeds.size();
+    result.fallbackCells = top.fallbackCells;
     std::vector<detail::RawPiece> pieces =
-        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings, {},
+        refracture(std::move(top.pieces), std::int64_t(result.seeds.size()), grid, settings, {}, result,
                    [&](double f) { return progress(share + f * (1.0 - share)); });
     if (settings.minVolume > 0.0)
         result.merged = detail::mergeSmallPieces(pieces, settings.minVolume, settings.density, minArea);
@@ -1009,6 +1227,10 @@ FractureResult fractureMesh(const Mesh& mesh, const FractureSettings& settings, 
     }
 }
 
+
+const char* fractureMethodName(FractureMethod method) {
+    return method == FractureMethod::Rvd ? "rvd" : "corefine";
+}
 
 const char* breakStyleName(BreakStyle style) {
     switch (style) {
@@ -1200,6 +1422,8 @@ std::vector<detail::RawPiece> fractureEachPart(std::span<const FracturePart> par
     std::vector<detail::RawPiece> pieces;
     for (Call& call : calls) {
         result.seeds.insert(result.seeds.end(), call.seeds.begin(), call.seeds.end());
+        result.cells += call.seeds.size();
+        result.fallbackCells += call.fallbackCells;
         for (detail::RawPiece& p : call.pieces) pieces.push_back(std::move(p));
     }
     return pieces;
@@ -1219,7 +1443,7 @@ FractureResult fracturePartsChecked(std::span<const FracturePart> parts, const P
     std::vector<detail::RawPiece> pieces = fractureEachPart(parts, partSettings, grid, share, progress, result);
     std::int64_t nextCell = 0;
     for (const FractureSettings& ps : partSettings) nextCell += ps.pieces;
-    pieces = refracture(std::move(pieces), nextCell, grid, common, partSettings,
+    pieces = refracture(std::move(pieces), nextCell, grid, common, partSettings, result,
                         [&](double f) { return progress(share + f * (1.0 - share)); });
     if (common.minVolume > 0.0) result.merged = detail::mergeSmallPieces(pieces, common.minVolume, 1.0, minArea);
     // Rounded at unit density, then each piece weighed at its own part's density.

@@ -49,6 +49,7 @@ std::string fractureJson(const FractureResult& result, const FractureSettings& s
     s["min_volume"] = settings.minVolume;
     s["levels"] = settings.levels;
     s["level_pieces"] = settings.levelPieces;
+    s["method"] = fractureMethodName(settings.method);
     j["settings"] = std::move(s);
 
     double total = 0.0;
@@ -83,6 +84,7 @@ std::string fractureJson(const FractureResult& result, const FractureSettings& s
     }
     j["volume"] = total;
     j["merged"] = result.merged;
+    j["cells"] = {{"cut", result.cells}, {"by_corefinement", result.fallbackCells}};
     j["pieces"] = std::move(pieces);
     nlohmann::ordered_json bonds = nlohmann::ordered_json::array();
     for (const Bond& b : result.bonds) {

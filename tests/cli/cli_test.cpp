@@ -354,6 +354,9 @@ TEST(CliFracture, WritesValidFilesThatAgreeWithEachOther) {
     const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "out" / "fracture.json"));
     EXPECT_EQ(j["seed"], 7);
     EXPECT_EQ(j["input"]["triangles"], 1280);
+    EXPECT_EQ(j["settings"]["method"], "rvd");
+    EXPECT_EQ(j["cells"]["cut"], 20);
+    EXPECT_EQ(j["cells"]["by_corefinement"], 0);
     ASSERT_EQ(j["pieces"].size(), 20u);
     double total = 0.0;
     for (const auto& p : j["pieces"]) {
@@ -404,12 +407,39 @@ TEST(CliFracture, BadInputExits2AndWritesNothing) {
     expectBadInput({"fracture", sphere, "-o", out, "--levels", "1"}, "need an impact point");
     expectBadInput({"fracture", sphere, "-o", out, "--interior-material", "16"}, "--interior-material");
     expectBadInput({"fracture", sphere, "-o", out, "--roughness", "-0.1"}, "--roughness");
+    expectBadInput({"fracture", sphere, "-o", out, "--method", "fast"}, "--method");
     expectBadInput({"fracture", test::dataFile("open_box.obj").string(), "-o", out}, "not closed");
     expectBadInput({"fracture", test::dataFile("nan.obj").string(), "-o", out}, "non-finite");
     expectBadInput({"fracture", (dir / "missing.obj").string(), "-o", out}, "no such file");
     test::writeText(dir / "points.txt", "0 0 0\n0.1 oops 0\n");
     expectBadInput({"fracture", sphere, "-o", out, "--points", (dir / "points.txt").string()}, "line 2");
     EXPECT_EQ(dir.entries(), (std::vector<std::string>{"points.txt", "sphere.obj"}));
+}
+
+// Seeds at a cube's corners in a box with vertices on their bisectors: the restricted Voronoi
+// diagram cannot close those cells, corefinement cuts them, and the user is told.
+TEST(CliFracture, SaysHowManyCellsCorefinementCut) {
+    TempDir dir;
+    test::writeObj(dir / "box.obj", test::gridBox(4));
+    std::string points;
+    for (int k = 0; k < 8; ++k) points += format("{} {} {}\n", k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5);
+    test::writeText(dir / "corners.txt", points);
+    for (const char* method : {"rvd", "corefine"}) {
+        const RunResult r = test::runDawnforge({"fracture", (dir / "box.obj").string(), "-o", (dir / method).string(),
+                                                "--points", (dir / "corners.txt").string(), "--method", method});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(test::readText(dir / method / "fracture.json"));
+        EXPECT_EQ(j["settings"]["method"], method);
+        EXPECT_EQ(j["cells"]["cut"], 8);
+        const int corefined = j["cells"]["by_corefinement"];
+        if (std::string(method) == "rvd") {
+            EXPECT_GT(corefined, 0);
+            EXPECT_NE(r.out.find(format("{} of 8 cells cut by corefinement", corefined)), std::string::npos) << r.out;
+        } else {
+            EXPECT_EQ(corefined, 0);  // nothing fell back: corefinement was asked for
+            EXPECT_EQ(r.out.find("cut by corefinement"), std::string::npos) << r.out;
+        }
+    }
 }
 
 // Fracture pieces glued back together (they touch along cut faces triangulated differently

@@ -4,6 +4,7 @@
 #include "test_support.hpp"
 
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
 #include <dawnforge/core/validate.hpp>
@@ -337,4 +338,90 @@ TEST(Fracture, AxisAlignedTowerDoesNotHang) {
     const FractureResult r = fractureMesh(tower, s);
     EXPECT_EQ(r.pieces.size(), 60u);
     expectSoundPieces(tower, r, 6 * 3.0 * 10.0 * 10.0);
+}
+
+// The restricted Voronoi diagram (the default) and one corefinement per cell are two ways to the
+// same pieces: the same cells, volumes, bonds and bond areas, up to the grid's rounding.
+TEST(Fracture, BothMethodsCutTheSamePieces) {
+    const Mesh torus = test::makeTorus(1.0f, 0.35f, 32, 16);
+    FractureSettings s;
+    s.pieces = 30;
+    s.seed = 11;
+    const FractureResult rvd = fractureMesh(torus, s);
+    s.method = FractureMethod::Corefine;
+    const FractureResult corefine = fractureMesh(torus, s);
+    EXPECT_EQ(rvd.fallbackCells, 0u);
+    EXPECT_EQ(rvd.cells, 30u);
+    ASSERT_EQ(rvd.pieces.size(), corefine.pieces.size());
+    for (std::size_t i = 0; i < rvd.pieces.size(); ++i) {
+        EXPECT_EQ(rvd.pieces[i].cell, corefine.pieces[i].cell);
+        EXPECT_NEAR(rvd.pieces[i].mass.volume / corefine.pieces[i].mass.volume, 1.0, 1e-7) << rvd.pieces[i].name;
+        EXPECT_LT(glm::distance(rvd.pieces[i].mass.centerOfMass, corefine.pieces[i].mass.centerOfMass), 1e-6);
+    }
+    ASSERT_EQ(rvd.bonds.size(), corefine.bonds.size());
+    for (std::size_t k = 0; k < rvd.bonds.size(); ++k) {
+        EXPECT_EQ(std::pair(rvd.bonds[k].a, rvd.bonds[k].b), std::pair(corefine.bonds[k].a, corefine.bonds[k].b));
+        EXPECT_NEAR(rvd.bonds[k].area / corefine.bonds[k].area, 1.0, 1e-6);
+    }
+    expectSoundPieces(torus, rvd, test::referenceVolume(torus));
+}
+
+// Seeds no sampling would make: on a lattice (many cospherical, cells meeting 4 and 8 at an
+// edge or corner), at a cube's corners, in one plane, and on the surface itself.
+TEST(Fracture, DegenerateSeedsGiveSoundPieces) {
+    const Mesh box = test::gridBox(4);
+    std::vector<glm::dvec3> lattice, corners, plane, surface;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+            for (int z = -1; z <= 1; ++z) lattice.push_back(0.6 * glm::dvec3(x, y, z));
+    for (int k = 0; k < 8; ++k) corners.push_back({k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5});
+    Rng rng(4);
+    for (int k = 0; k < 12; ++k) plane.push_back({rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9), 0.25});
+    for (int k = 0; k < 30; ++k) {
+        glm::dvec3 p(rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9), rng.uniform(-0.9, 0.9));
+        p[k % 3] = k % 2 ? 1.0 : -1.0;
+        surface.push_back(p);
+    }
+    for (const auto& [name, seeds] : {std::pair{"lattice", lattice}, std::pair{"corners", corners},
+                                      std::pair{"plane", plane}, std::pair{"surface", surface}}) {
+        SCOPED_TRACE(name);
+        FractureSettings s;
+        s.points = seeds;
+        const FractureResult r = fractureMesh(box, s);
+        EXPECT_EQ(r.pieces.size(), seeds.size());
+        EXPECT_LE(r.fallbackCells, r.cells);
+        expectSoundPieces(box, r, 8.0);
+    }
+}
+
+TEST(Fracture, RepeatedSeedsAreRefusedByIndex) {
+    for (std::size_t n : {5u, 20u}) {
+        FractureSettings s;
+        for (std::size_t k = 0; k < n; ++k) s.points.push_back({0.05 * double(k) - 0.4, 0.01 * double(k * k % 7), 0.1});
+        s.points[n - 2] = s.points[2];
+        EXPECT_EQ(test::inputErrorOf([&] { fractureMesh(makeBox({-1, -1, -1}, {1, 1, 1}), s); }),
+                  format("fracture: seeds 2 and {} are at the same point", n - 2));
+    }
+}
+
+// Seeds at a cube's corners inside a box with vertices on every bisector: cells meet eight at
+// the centre and four along each axis, which the diagram's keys cannot close; those cells are
+// cut by corefinement, exactly as --method corefine cuts them.
+TEST(Fracture, CellsTheDiagramCannotCloseAreCutByCorefinement) {
+    const Mesh box = test::gridBox(4);
+    FractureSettings s;
+    for (int k = 0; k < 8; ++k) s.points.push_back({k & 1 ? 0.5 : -0.5, k & 2 ? 0.5 : -0.5, k & 4 ? 0.5 : -0.5});
+    const FractureResult rvd = fractureMesh(box, s);
+    EXPECT_GT(rvd.fallbackCells, 0u);
+    EXPECT_EQ(rvd.cells, 8u);
+    expectSoundPieces(box, rvd, 8.0);
+    s.method = FractureMethod::Corefine;
+    const FractureResult corefine = fractureMesh(box, s);
+    EXPECT_EQ(corefine.fallbackCells, 0u);
+    ASSERT_EQ(rvd.pieces.size(), corefine.pieces.size());
+    if (rvd.fallbackCells == rvd.cells)
+        for (std::size_t i = 0; i < rvd.pieces.size(); ++i) {
+            EXPECT_EQ(rvd.pieces[i].mesh.positions, corefine.pieces[i].mesh.positions);
+            EXPECT_EQ(rvd.pieces[i].mesh.indices, corefine.pieces[i].mesh.indices);
+        }
 }

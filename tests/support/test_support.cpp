@@ -171,6 +171,30 @@ Mesh makeTorus(float majorRadius, float minorRadius, int around, int section) {
     return m;
 }
 
+Mesh gridBox(int n) {
+    Mesh m;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side : {-1, 1}) {
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            for (int a = 0; a < n; ++a)
+                for (int b = 0; b < n; ++b) {
+                    auto corner = [&](int da, int db) {
+                        glm::vec3 p(0.0f);
+                        p[axis] = float(side);
+                        p[u] = -1.0f + 2.0f * float(a + da) / float(n);
+                        p[v] = -1.0f + 2.0f * float(b + db) / float(n);
+                        return p;
+                    };
+                    std::array<glm::vec3, 4> q{corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)};
+                    if (side < 0) std::reverse(q.begin(), q.end());
+                    const auto base = std::uint32_t(m.positions.size());
+                    m.positions.insert(m.positions.end(), q.begin(), q.end());
+                    m.indices.insert(m.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+                }
+        }
+    return m;
+}
+
 double windingNumber(const Mesh& mesh, const glm::dvec3& p) {
     double total = 0.0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {

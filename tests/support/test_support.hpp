@@ -92,6 +92,10 @@ double referenceVolume(const Mesh& mesh);
 // A closed torus around the Y axis (outward, counter-clockwise): non-convex, genus 1.
 Mesh makeTorus(float majorRadius, float minorRadius, int around, int section);
 
+// A closed box from -1 to 1 whose faces are n × n squares of two triangles (outward): vertices
+// and edges on the planes x, y, z = -1 + 2k/n.
+Mesh gridBox(int n);
+
 // Generalised winding number of a closed mesh at p (1 inside, 0 outside; van Oosterom
 // and Strackee's solid angle): an inside test that needs no library.
 double windingNumber(const Mesh& mesh, const glm::dvec3& p);

@@ -28,6 +28,12 @@ namespace dawnforge::sim {
 // (measured: 350 MB for 75,000 triangles into 50 pieces), so 2 million fit in 10 GB.
 inline constexpr std::size_t kMaxFractureTriangles = 2'000'000;
 
+// How the cells cut the mesh: the restricted Voronoi diagram in one pass over the mesh (cells
+// it cannot close by its symbolic corners fall back to corefinement), or one CGAL
+// corefinement per cell (the older path, kept for comparison).
+enum class FractureMethod : std::uint8_t { Rvd, Corefine };
+const char* fractureMethodName(FractureMethod method);  // "rvd", "corefine"
+
 struct FractureSettings {
     int pieces = 50;                            // seeds (Voronoi cells) for uniform sampling
     std::uint64_t seed = 1;
@@ -46,6 +52,7 @@ struct FractureSettings {
     double voxelSize = 0.0;                     // level-set voxel (m); 0: half the roughness, within diag/400..diag/50
     glm::dvec3 grain{0.0, 1.0, 0.0};            // cells are stretched along this direction...
     double stretch = 1.0;                       // ...this many times (splinters of wood); 1: round cells
+    FractureMethod method = FractureMethod::Rvd;
 };
 
 struct FracturePiece {
@@ -89,6 +96,8 @@ struct FractureResult {
     double inputVolume = 0.0;
     std::size_t inputTriangles = 0;
     std::size_t merged = 0;                     // pieces merged away by minVolume
+    std::size_t cells = 0;                      // Voronoi cells cut, all levels
+    std::size_t fallbackCells = 0;              // of them, cut by corefinement where the Rvd method could not close them
     std::vector<std::string> notes;             // what was done to the input first (turned outward), one sentence each
 };
 
