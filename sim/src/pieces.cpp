@@ -166,9 +166,17 @@ RawPiece partPiece(const RawPiece& p, const std::vector<GridTriangle>& part, con
     return out;
 }
 
+// The nearest float point. Through a volatile store: GCC 12's SLP vectorizer (-O2 and up) drops
+// a double -> float -> double conversion that is never stored, so glm::dvec3(glm::vec3(p))
+// returned p unrounded in Release builds (and rounded at -O1).
+glm::dvec3 floatPoint(const glm::dvec3& p) {
+    volatile float f[3] = {float(p.x), float(p.y), float(p.z)};
+    return {double(f[0]), double(f[1]), double(f[2])};
+}
+
 // `p` rounded for the files, as one piece or, where rounding made it touch itself, several.
 void roundPiece(const RawPiece& p, double density, bool resplit, std::vector<RawPiece>& out) {
-    const glm::dvec3 pivot(glm::vec3(p.mass.centerOfMass));
+    const glm::dvec3 pivot = floatPoint(p.mass.centerOfMass);
     glm::dvec3 reach(0.0);
     for (const glm::dvec3& q : p.points) reach = glm::max(reach, glm::abs(q - pivot));
     const glm::dvec3 h = floatGrid(reach);

@@ -24,6 +24,7 @@
 #include <atomic>
 #include <map>
 #include <optional>
+#include <stdexcept>
 
 namespace dawnforge::sim::detail {
 
@@ -501,7 +502,11 @@ public:
                 fan.push_back({f.corners[0].key, f.corners[k].key, f.corners[k + 1].key});
             return fan;
         }
-        return triangulate(i, j, edges);
+        try {
+            return triangulate(i, j, edges);
+        } catch (const std::exception&) {  // CGAL gave up on this cap: the cell falls back
+            return std::nullopt;
+        }
     }
 
 private:
@@ -542,7 +547,10 @@ private:
                                                         const std::vector<std::pair<RvdKey, RvdKey>>& edges) {
         ++triangulations;
         std::map<RvdKey, int> degree;
-        for (const auto& [a, b] : edges) ++degree[a], --degree[b];
+        for (const auto& [a, b] : edges) {
+            if (a == b) return std::nullopt;
+            ++degree[a], --degree[b];
+        }
         for (const auto& [_, deg] : degree)
             if (deg != 0) return std::nullopt;
         const glm::dvec3 normal = d_.bisectorNormal(i, j);

