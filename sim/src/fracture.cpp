@@ -311,18 +311,7 @@ struct Cells {
     std::vector<CGAL::Bbox_3> boxes;
 };
 
-// The metric of stretched cells: distances along the unit grain shrink by `stretch`, so
-// cells come out `stretch` times longer along it (splinters). Its bisectors are still planes:
-// through the midpoint of two seeds, normal to M·(b − a) with M = I + (1/stretch² − 1)·g·gᵀ;
-// its Delaunay neighbours are those of the seeds squeezed along the grain.
-struct Metric {
-    glm::dvec3 grain{0.0, 1.0, 0.0};
-    double stretch = 1.0;
-    glm::dvec3 squeeze(const glm::dvec3& p) const { return p + (1.0 / stretch - 1.0) * glm::dot(p, grain) * grain; }
-    glm::dvec3 bisectorNormal(const glm::dvec3& d) const {
-        return d + (1.0 / (stretch * stretch) - 1.0) * glm::dot(d, grain) * grain;
-    }
-};
+using detail::Metric;
 
 // Every other seed is a neighbour: a superset of the Delaunay neighbours, for few seeds.
 std::vector<std::vector<std::uint32_t>> allNeighbours(std::size_t n) {
@@ -902,33 +891,42 @@ void corefineCells(CellJob& job, std::span<const std::uint32_t> ids, const Progr
     });
 }
 
-// Cuts every cell through the restricted Voronoi diagram; returns the cells it could not close.
-std::vector<std::uint32_t> rvdCells(CellJob& job) {
-    const SM& sm = job.in.sm;
+// The input surface as plain arrays: its points (by SM vertex index), triangles and their origins.
+struct SurfaceArrays {
     std::vector<glm::dvec3> points;
-    for (Vertex v : sm.vertices()) points.push_back(toGlm(sm.point(v)));
     std::vector<std::array<std::uint32_t, 3>> triangles;
-    std::vector<Origin> inputOrigins;
+    std::vector<Origin> origins;
+};
+
+SurfaceArrays surfaceArrays(const SM& sm) {
+    SurfaceArrays s;
+    for (Vertex v : sm.vertices()) s.points.push_back(toGlm(sm.point(v)));
     const auto o = origins(sm);
     for (Face f : sm.faces()) {
         std::array<std::uint32_t, 3> t{};
         std::size_t k = 0;
         for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) t[k++] = std::uint32_t(v);
-        triangles.push_back(t);
-        inputOrigins.push_back(o[f]);
+        s.triangles.push_back(t);
+        s.origins.push_back(o[f]);
     }
+    return s;
+}
+
+// Cuts every cell through the restricted Voronoi diagram; returns the cells it could not close.
+std::vector<std::uint32_t> rvdCells(CellJob& job, const SurfaceArrays& surface) {
     const CGAL::Bbox_3& b = job.box;
     const detail::RvdSeeds seeds{job.seeds, job.cells.neighbours, {b.xmin(), b.ymin(), b.zmin()},
-                                 {b.xmax(), b.ymax(), b.zmax()}, job.metric.grain, job.metric.stretch};
+                                 {b.xmax(), b.ymax(), b.zmax()}, job.metric};
     const CGAL::Side_of_triangle_mesh<SM, K>& side = *job.in.inside;
-    const std::vector<detail::RvdCell> rvd = detail::restrictedVoronoi(
-        {points, triangles}, seeds, [&](const glm::dvec3& p) { return side(toPoint(p)) == CGAL::ON_BOUNDED_SIDE; });
+    const std::vector<detail::RvdCell> rvd =
+        detail::restrictedVoronoi({surface.points, surface.triangles}, seeds,
+                                  [&](const glm::dvec3& p) { return side(toPoint(p)) == CGAL::ON_BOUNDED_SIDE; });
     std::vector<std::uint32_t> failed;
     for (std::uint32_t i = 0; i < rvd.size(); ++i)
         if (!rvd[i].closed) failed.push_back(i);
     tbb::parallel_for(std::size_t(0), rvd.size(), [&](std::size_t i) {
         if (rvd[i].closed)
-            job.perCell[i] = rvdPieces(rvd[i], inputOrigins, job.cells.neighbours[i], job.grid, job.in,
+            job.perCell[i] = rvdPieces(rvd[i], surface.origins, job.cells.neighbours[i], job.grid, job.in,
                                        job.cells.planes[i], job.cellBase + std::int64_t(i), job.settings);
     });
     return failed;
@@ -936,21 +934,19 @@ std::vector<std::uint32_t> rvdCells(CellJob& job) {
 
 // Whether the pieces' volumes add up to the surface's, up to what rounding the corners to the
 // grid can move (the surface's area times a grid step).
-bool volumesAddUp(const std::vector<std::vector<detail::RawPiece>>& perCell, const SM& sm, const Grid& grid,
-                  double density) {
-    std::vector<glm::dvec3> points;
-    for (Vertex v : sm.vertices()) points.push_back(toGlm(sm.point(v)));
+bool volumesAddUp(const std::vector<std::vector<detail::RawPiece>>& perCell, const SurfaceArrays& surface,
+                  const Grid& grid, double density) {
     std::vector<std::uint32_t> indices;
     double area = 0.0;
-    for (Face f : sm.faces()) {
-        for (Vertex v : CGAL::vertices_around_face(sm.halfedge(f), sm)) indices.push_back(std::uint32_t(v));
-        const glm::dvec3 a = points[indices[indices.size() - 3]], b = points[indices[indices.size() - 2]];
-        area += 0.5 * glm::length(glm::cross(b - a, points[indices.back()] - a));
+    for (const auto& t : surface.triangles) {
+        indices.insert(indices.end(), t.begin(), t.end());
+        const glm::dvec3 a = surface.points[t[0]];
+        area += 0.5 * glm::length(glm::cross(surface.points[t[1]] - a, surface.points[t[2]] - a));
     }
     double sum = 0.0;
     for (const auto& list : perCell)
         for (const detail::RawPiece& p : list) sum += p.mass.mass / density;
-    const double expected = computeMassProperties(points, indices, 1.0).volume;
+    const double expected = computeMassProperties(surface.points, indices, 1.0).volume;
     return std::abs(sum - expected) <= 1e-9 * std::abs(expected) + area * std::max({grid.h.x, grid.h.y, grid.h.z});
 }
 
@@ -964,13 +960,13 @@ struct Call {
 // corner, mesh edges on their bisectors) can leave cells the diagram cannot close by keys, and
 // that CGAL's cell construction refuses as well. Moved by a millionth of the mesh's size, each
 // its own way, they are in general position: cut again with the moved seeds.
-void cutNudged(CellJob& job, const ProgressFn& progress) {
+void cutNudged(CellJob& job, const SurfaceArrays& surface) {
     Rng rng(deriveSeed(job.settings.seed, "fracture-nudge"));
     std::vector<glm::dvec3> moved = job.seeds;
     for (glm::dvec3& p : moved) p += 1e-6 * job.diagonal * glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     CellJob again(job.in, job.grid, job.settings, job.cellBase, std::move(moved));
-    const std::vector<std::uint32_t> failed = rvdCells(again);
-    corefineCells(again, failed, progress);
+    const std::vector<std::uint32_t> failed = rvdCells(again, surface);
+    corefineCells(again, failed, noProgress);
     job.seeds = std::move(again.seeds);
     job.cells = std::move(again.cells);
     job.perCell = std::move(again.perCell);
@@ -987,15 +983,16 @@ std::size_t cutCells(CellJob& job, const ProgressFn& progress) {
         corefineCells(job, all, progress);
         return 0;
     }
-    const std::vector<std::uint32_t> failed = rvdCells(job);
+    const SurfaceArrays surface = surfaceArrays(job.in.sm);
+    const std::vector<std::uint32_t> failed = rvdCells(job, surface);
     const double done = 1.0 - double(failed.size()) / double(all.size());
     if (!progress(done)) throw Cancelled();
     try {
         corefineCells(job, failed, [&](double f) { return progress(done + f); });
     } catch (const InputError&) {
-        cutNudged(job, noProgress);
+        cutNudged(job, surface);
     }
-    if (volumesAddUp(job.perCell, job.in.sm, job.grid, job.settings.density)) return failed.size();
+    if (volumesAddUp(job.perCell, surface, job.grid, job.settings.density)) return failed.size();
     corefineCells(job, all, noProgress);
     return all.size();
 }

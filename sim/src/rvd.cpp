@@ -21,7 +21,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -70,14 +69,12 @@ struct Corner {
 class Diagram {
 public:
     Diagram(const RvdSurface& s, const RvdSeeds& seeds)
-        : surface_(s), seeds_(seeds), n_(std::uint32_t(seeds.points.size())),
-          metric_(1.0 / (seeds.stretch * seeds.stretch) - 1.0), grain_(glm::normalize(seeds.grain)) {
+        : surface_(s), seeds_(seeds), n_(std::uint32_t(seeds.points.size())) {
         const glm::dvec3 extent = seeds.boxMax - seeds.boxMin;
         scale_ = std::max({extent.x, extent.y, extent.z, 1e-300});
     }
 
     std::uint32_t seedCount() const { return n_; }
-    std::size_t exactFallbacks() const { return exact_; }
 
     template <class NT> Lin<NT> plane(PlaneRef p) const {
         switch (p.kind) {
@@ -134,7 +131,6 @@ public:
             const CGAL::Uncertain<CGAL::Sign> sv = CGAL::sign(v), sw = CGAL::sign(c.approx.w);
             if (CGAL::is_certain(sv) && CGAL::is_certain(sw)) return int(CGAL::get_certain(sv)) * int(CGAL::get_certain(sw));
         }
-        ++exact_;
         const Hom<EX> e = point<EX>(c.key);
         return int(CGAL::sign(at(plane<EX>(p), e))) * int(CGAL::sign(e.w));
     }
@@ -159,8 +155,7 @@ public:
 
     // The bisector's normal, from seed i towards seed j (in double: for choosing a projection).
     glm::dvec3 bisectorNormal(std::uint32_t i, std::uint32_t j) const {
-        const glm::dvec3 delta = seeds_.points[j] - seeds_.points[i];
-        return delta + metric_ * glm::dot(grain_, delta) * grain_;
+        return seeds_.metric.bisectorNormal(seeds_.points[j] - seeds_.points[i]);
     }
 
 private:
@@ -186,8 +181,9 @@ private:
         NT dx = NT(sj.x) - NT(si.x), dy = NT(sj.y) - NT(si.y), dz = NT(sj.z) - NT(si.z);
         NT qi = NT(si.x) * NT(si.x) + NT(si.y) * NT(si.y) + NT(si.z) * NT(si.z);
         NT qj = NT(sj.x) * NT(sj.x) + NT(sj.y) * NT(sj.y) + NT(sj.z) * NT(sj.z);
-        if (metric_ != 0.0) {
-            const NT gx(grain_.x), gy(grain_.y), gz(grain_.z), c(metric_);
+        if (const double shrink = seeds_.metric.shrink(); shrink != 0.0) {
+            const glm::dvec3& g = seeds_.metric.grain;
+            const NT gx(g.x), gy(g.y), gz(g.z), c(shrink);
             const NT gd = c * (gx * dx + gy * dy + gz * dz);
             dx = dx + gd * gx, dy = dy + gd * gy, dz = dz + gd * gz;
             const NT gi = gx * NT(si.x) + gy * NT(si.y) + gz * NT(si.z), gj = gx * NT(sj.x) + gy * NT(sj.y) + gz * NT(sj.z);
@@ -200,10 +196,7 @@ private:
     const RvdSurface& surface_;
     const RvdSeeds& seeds_;
     std::uint32_t n_;
-    double metric_;
-    glm::dvec3 grain_;
     double scale_ = 1.0;
-    mutable std::atomic<std::size_t> exact_{0};
 };
 
 RvdKey sortedKey(std::uint32_t kind, std::array<std::uint32_t, 4> x, std::size_t from) {
@@ -545,7 +538,6 @@ private:
 
     std::optional<std::vector<KeyTriangle>> triangulate(std::uint32_t i, std::uint32_t j,
                                                         const std::vector<std::pair<RvdKey, RvdKey>>& edges) {
-        ++triangulations;
         std::map<RvdKey, int> degree;
         for (const auto& [a, b] : edges) {
             if (a == b) return std::nullopt;
@@ -586,9 +578,6 @@ private:
     const std::function<bool(const glm::dvec3&)>& inside_;
     std::map<RvdKey, bool> insideOf_;
     std::map<RvdKey, glm::dvec3> positions_;
-
-public:
-    std::size_t triangulations = 0;
 };
 
 // ---------------------------------------------------------------- assembly
@@ -690,7 +679,6 @@ SurfacePass cutSurface(const Diagram& d, const RvdSurface& surface, const RvdSee
 struct CapPass {
     std::vector<Caps> caps;
     std::vector<char> cellFailed;
-    std::size_t triangulations = 0;
 };
 
 CapPass cutCaps(const Diagram& d, const RvdSeeds& seeds, const SurfacePass& surface,
@@ -703,8 +691,7 @@ CapPass cutCaps(const Diagram& d, const RvdSeeds& seeds, const SurfacePass& surf
             if (p) polygons.push_back(p);
         surfaces[i] = cellSurface(polygons);
     });
-    CapPass pass{std::vector<Caps>(n), std::vector<char>(n, 0), 0};
-    std::atomic<std::size_t> triangulations{0};
+    CapPass pass{std::vector<Caps>(n), std::vector<char>(n, 0)};
     tbb::parallel_for(std::uint32_t(0), n, [&](std::uint32_t i) {
         const std::vector<std::uint32_t>& nb = seeds.neighbours[i];
         Caps& caps = pass.caps[i];
@@ -723,9 +710,7 @@ CapPass cutCaps(const Diagram& d, const RvdSeeds& seeds, const SurfacePass& surf
             if (c) caps.perNeighbour[k] = std::move(*c);
             else caps.failed[k] = 1;
         }
-        triangulations += builder.triangulations;
     });
-    pass.triangulations = triangulations;
     return pass;
 }
 
@@ -777,8 +762,6 @@ std::vector<RvdCell> restrictedVoronoi(const RvdSurface& surface, const RvdSeeds
     if (stats) {
         stats->clippedTriangles = parts.mixed;
         stats->wholeTriangles = surface.triangles.size() - parts.mixed;
-        stats->exactFallbacks = d.exactFallbacks();
-        stats->capTriangulations = caps.triangulations;
     }
     return cells;
 }

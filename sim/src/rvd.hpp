@@ -11,6 +11,7 @@
 //
 // A cell whose surface does not close by keys (degenerate seeds or meshes) is reported, not
 // guessed at: the caller cuts that one another way. Plain data here; CGAL stays inside rvd.cpp.
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -36,12 +37,23 @@ struct RvdSurface {
     std::span<const std::array<std::uint32_t, 3>> triangles;  // counter-clockwise from outside
 };
 
+// The metric of stretched cells: distances along the unit grain shrink by `stretch`, so cells come
+// out `stretch` times longer along it (splinters). Its bisectors are still planes: through the
+// midpoint of two seeds, normal to M·(b − a) with M = I + shrink()·g·gᵀ; its Delaunay neighbours
+// are those of the seeds squeezed along the grain.
+struct Metric {
+    glm::dvec3 grain{0.0, 1.0, 0.0};  // unit
+    double stretch = 1.0;
+    double shrink() const { return 1.0 / (stretch * stretch) - 1.0; }
+    glm::dvec3 squeeze(const glm::dvec3& p) const { return p + (1.0 / stretch - 1.0) * glm::dot(p, grain) * grain; }
+    glm::dvec3 bisectorNormal(const glm::dvec3& d) const { return d + shrink() * glm::dot(d, grain) * grain; }
+};
+
 struct RvdSeeds {
     std::span<const glm::dvec3> points;
     std::span<const std::vector<std::uint32_t>> neighbours;  // per seed, sorted: at least its Delaunay neighbours
     glm::dvec3 boxMin{0.0}, boxMax{0.0};                       // strictly around the surface
-    glm::dvec3 grain{0.0, 1.0, 0.0};                           // the metric: distances along the unit grain...
-    double stretch = 1.0;                                      // ...shrink this many times
+    Metric metric{};
 };
 
 // One cell's pieces before rounding: closed by keys when `closed`.
@@ -57,7 +69,7 @@ struct RvdCell {
 };
 
 struct RvdStats {
-    std::size_t wholeTriangles = 0, clippedTriangles = 0, exactFallbacks = 0, capTriangulations = 0;
+    std::size_t wholeTriangles = 0, clippedTriangles = 0;
 };
 
 // The cells of `seeds` restricted to the volume `surface` bounds. `inside` says whether a
