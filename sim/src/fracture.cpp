@@ -1348,8 +1348,10 @@ Bounds describeParts(std::span<const FracturePart> parts, const PartsFractureSet
     return all;
 }
 
-// Each part's own settings: its cells (Voronoi parts share `pieces` by weighted volume;
-// shards and splinters by the area of one face of the plate), density, seed and grain.
+// Each part's own settings: its cells (Voronoi parts share `pieces` by weighted volume, and a
+// thin one gets at least one cell per (2s)² of one face, s the mean cell's size, so that a trim
+// band round a building is not one 50 m ring; shards and splinters by the area of one face of
+// the plate), density, seed and grain.
 std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
                                         FractureResult& result) {
     const std::size_t n = parts.size();
@@ -1357,6 +1359,10 @@ std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, con
     for (std::size_t i = 0; i < n; ++i)
         if (result.parts[i].style == BreakStyle::Voronoi) weights[i] = weightedVolume(parts[i].mesh, settings.common);
     const double totalWeight = std::accumulate(weights.begin(), weights.end(), 0.0);
+    double voronoiVolume = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (result.parts[i].style == BreakStyle::Voronoi) voronoiVolume += result.parts[i].volume;
+    const double cellSize = std::cbrt(voronoiVolume / double(settings.common.pieces));
     std::vector<FractureSettings> partSettings(n, settings.common);
     for (std::size_t i = 0; i < n; ++i) {
         const FracturePart& part = parts[i];
@@ -1366,6 +1372,7 @@ std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, con
         switch (result.parts[i].style) {
             case BreakStyle::Voronoi:
                 cells = totalWeight > 0.0 ? settings.common.pieces * weights[i] / totalWeight : 1.0;
+                if (cellSize > 0.0) cells = std::max(cells, area / (4.0 * cellSize * cellSize));
                 break;
             case BreakStyle::Shards: cells = area / (settings.shardSize * settings.shardSize); break;
             case BreakStyle::Splinters:

@@ -4,7 +4,8 @@
 // different parts that touch are bonded like pieces of one part.
 //
 // - Voronoi (brick, concrete, plaster, ...): cells as fractureMesh makes them; the parts
-//   share `pieces` cells by volume, weighted like the seeds near the impact.
+//   share `pieces` cells by volume, weighted like the seeds near the impact; a thin part gets
+//   at least one cell per (2s)² of one face (s the mean cell's size), so a long band is not one piece.
 // - Shards (glass): many small cells, about `shardSize` across, so a pane shatters.
 // - Splinters (wood): cells stretched along the part's grain (Voronoi under a metric that
 //   shortens distances along it), about `splinterWidth` wide and `splinterLength` long.
