@@ -28,14 +28,14 @@ Eigen::Matrix3d crossMatrix(const glm::dvec3& r) {
 
 double radiusOf(double area) { return std::sqrt(area / 3.14159265358979323846); }
 
-// The bond's stiffness: translation ∝ A, rotation ∝ A·r²/4 (E/L = 1: only the ratios matter,
-// the forces a load makes do not depend on the scale).
+// The bond's stiffness: translation ∝ E·A, rotation ∝ E·A·r²/4 (E the link's modulus, L = 1:
+// only the ratios matter, the forces a load makes do not depend on the scale).
 struct Stiffness {
     double translation, rotation;
 };
 Stiffness stiffnessOf(const StressLink& l) {
     const double r = radiusOf(l.area);
-    return {l.area, l.area * r * r / 4.0};
+    return {l.modulus * l.area, l.modulus * l.area * r * r / 4.0};
 }
 
 // Relative displacement at the bond point (node a's side minus node b's) and relative

@@ -36,6 +36,8 @@ struct StressLink {
     glm::dvec3 point{0.0};   // the bond's centroid at rest
     glm::dvec3 normal{0.0};  // unit, from a to b, at rest
     double area = 0.0;       // m²
+    double modulus = 1.0;    // relative stiffness per area (the glue's strength: brittle materials
+                             // break at much the same strain, so a weak bond is as much softer)
 };
 
 // Force and torque (about the node's rest centre of mass) on each node, in the rest frame.
