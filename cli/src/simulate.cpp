@@ -76,6 +76,9 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
         result = sim::simulate(fracture.pieces, fracture.bonds, settings, progress.callback());
     }
     writeSimulationFolder(result, settings, fracture.pieces, options.fractureDir, options.outputDir);
+    if (result.clampedThrows > 0)
+        std::fprintf(stderr, "warning: the explosion would have thrown %zu pieces faster than %g m/s; they were thrown at %g m/s\n",
+                     result.clampedThrows, sim::kFastestThrow, sim::kFastestThrow);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("simulated %zu pieces for %d frames at %g fps (%d substeps) in %.2f s\n", result.pieces,
@@ -104,6 +107,17 @@ void addSolverOptions(CLI::App& cmd, sim::SimulationSettings& s) {
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd.add_option("--strength-variation", s.strengthVariation, "Relative spread of bond strengths, from the seed")
         ->check(CLI::Range(0.0, 0.99))->capture_default_str();
+    cmd.add_option("--impact-time", s.impactTime,
+                   "Contact damage: a blow of J N·s breaks a bond as a force J / this held for this long would (s): a "
+                   "bond breaks when the impulse that crossed it exceeds strength x area x this")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--damage-transmission", s.damageTransmission,
+                   "Contact damage: the part of a blow that a piece passes on to its bonds further away")
+        ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+    cmd.add_option("--damage-hops", s.damageHops, "Contact damage: how many bonds away from the piece struck a blow reaches")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    cmd.add_option("--damage-half-life", s.damageHalfLife, "Contact damage: accumulated damage halves in this time (s)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
     cmd.add_option("--friction", s.friction, "Friction coefficient of pieces, ground and colliders")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
     cmd.add_option("--restitution", s.restitution, "Bounciness (0: none, 1: elastic)")
@@ -126,9 +140,10 @@ void addTriggerOptions(CLI::App& cmd, SimulateOptions& o) {
     cmd.add_option("--projectile-radius", o.projectile.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
     addPointOption(cmd, "--explosion", o.explosionCenter, "Push pieces away from this point X,Y,Z (m)");
     cmd.add_option("--explosion-radius", o.explosion.radius, "m")->check(CLI::PositiveNumber)->capture_default_str();
-    cmd.add_option("--explosion-impulse", o.explosion.impulse,
-                   "N·s at the centre on a piece of the mean mass, falling off as (1 - d/r)^2 and as (m / mean)^(2/3)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--explosion-speed", o.explosion.speed,
+                   "m/s given to a piece of the mean mass at the centre, falling off as (1 - d/r)^2 and as "
+                   "(mean / m)^(1/3) for a piece of mass m; no piece is thrown faster than 300 m/s")
+        ->check(CLI::Range(0.0, sim::kFastestThrow))->capture_default_str();
     cmd.add_flag("--collapse", o.settings.collapse, "Every bond breaks at the trigger time (gravity collapse)");
 }
 

@@ -8,6 +8,7 @@
 #include <dawnforge/sim/rigidbody.hpp>
 
 #include "bond_stress.hpp"
+#include "damage.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -229,8 +230,16 @@ void checkSettings(std::span<const RigidPiece> pieces, std::span<const Bond> bon
             throw InputError("the projectile needs a positive mass and radius and a non-negative speed");
         if (!(glm::length(p.direction) > 0.0)) throw InputError("the projectile direction must not be zero");
     }
-    if (s.explosion && (!(s.explosion->radius > 0.0) || !(s.explosion->impulse >= 0.0)))
-        throw InputError("the explosion needs a positive radius and a non-negative impulse");
+    if (s.explosion && (!(s.explosion->radius > 0.0) || !(s.explosion->speed >= 0.0)))
+        throw InputError("the explosion needs a positive radius and a non-negative speed");
+    if (s.explosion && s.explosion->speed > kFastestThrow)
+        throw InputError(format("the explosion's speed {} m/s is faster than {} m/s, the fastest a piece may be thrown",
+                                s.explosion->speed, kFastestThrow));
+    if (!(s.impactTime > 0.0) || !(s.damageHalfLife > 0.0))
+        throw InputError("the impact time and the damage half-life must be positive");
+    if (!(s.damageTransmission >= 0.0 && s.damageTransmission <= 1.0))
+        throw InputError(format("the damage transmission must be in [0, 1] (got {})", s.damageTransmission));
+    if (s.damageHops < 1) throw InputError(format("damage hops must be at least 1 (got {})", s.damageHops));
     for (std::size_t i = 0; i < pieces.size(); ++i) {
         const RigidPiece& p = pieces[i];
         if (!(p.mass > 0.0) || !std::isfinite(p.mass))
@@ -321,12 +330,14 @@ void restoreStates(std::span<const BodyState> states) {
 // pieces connected by unbroken bonds is one rigid body, a compound of their hulls with their
 // masses and inertias summed exactly; a set that rests on the ground or the support is fixed
 // there. Nothing inside an actor is solved: no joints, no contacts between its pieces.
-// After every substep the contacts on the actors load the bond graph's linear model
-// (bond_stress.hpp) with the pieces' weights; a bond breaks when its stress exceeds what it
-// carried at rest by more than its strength. The substep is then taken again from where it
-// started, with the broken actors split into their new connected sets, each moving with the
-// velocity field of its parent, so that what broke a bond pushes the pieces it freed instead
-// of bouncing off the whole.
+// After every substep the contacts on the pieces damage the bonds near them (damage.hpp); when
+// bonds break, the substep is taken again from where it started, with the broken actors split
+// into their new connected sets, each moving with the velocity field of its parent, so that
+// what broke a bond pushes the pieces it freed instead of bouncing off the whole. Then the
+// structure a break changed carries its weight in the bond graph's linear model
+// (bond_stress.hpp), one round of breaks a substep: a bond whose stress exceeds what it carried
+// at rest by more than its strength breaks, and the groups that changed are solved again in the
+// next substep, so a breach's consequences spread from it over time.
 constexpr double kFront = 0.5;
 
 // A glued piece resting on the ground plane or the support is bonded to it (Blast's bond to
@@ -393,10 +404,12 @@ private:
     void splitActors();
     std::vector<std::vector<std::uint32_t>> connectedSets() const;
     void buildStressModel();
-    bool contactLoads(NodeLoads& loads, std::vector<bool>& touched) const;
+    void buildDamageModel();
+    bool strikeGlue();
+    bool breakStruckBonds();
     void breakLink(std::size_t link, double time);
-    bool breakBonds(NodeLoads loads, const std::vector<bool>* touched);
-    bool breakOverloadedGlue();
+    bool breakBonds(NodeLoads loads, std::vector<bool> active, int rounds);
+    bool settleSupport();
     double totalEnergy() const;
     btTransform pieceFrame(std::size_t i) const;
     glm::dvec3 pieceVelocity(std::size_t i) const;
@@ -421,6 +434,8 @@ private:
     std::vector<Glue> glue_;                // per bond, then per ground link, when there is glue
     HullOverlaps overlaps_;
     std::unique_ptr<BondStressModel> stress_;  // when there is glue
+    std::unique_ptr<DamageModel> damage_;      // when there is glue
+    std::vector<bool> unsettled_;              // per node of the bond graph: its group changed since it was last solved
     btRigidBody* projectile_ = nullptr;
     BodyInfo projectileInfo_;
     long step_ = 0;
@@ -458,6 +473,7 @@ void Simulation::buildWorld() {
     findHullOverlaps();
     addActors();
     buildStressModel();
+    buildDamageModel();
     addGroundAndColliders();
 }
 
@@ -763,18 +779,22 @@ void Simulation::collapse() {
     splitActors();
 }
 
-// A bond or ground link breaks at `time`: the bond graph no longer has it, and a bond's break
-// is recorded.
+// A bond or ground link breaks at `time`: the bond graph no longer has it, its ends' groups
+// are unsettled, and a bond's break is recorded.
 void Simulation::breakLink(std::size_t link, double time) {
     glue_[link].broken = true;
     stress_->breakLink(link);
+    damage_->breakLink(link);
+    const auto [a, b] = linkEnds(link);
+    unsettled_[a] = unsettled_[b] = true;
     if (link < bonds_.size()) result_.breaks.push_back({link, time});
 }
 
 // The blast pushes each piece in proportion to the area it shows, (m / m̄)^(2/3) of what a piece
-// of the mean mass gets (the same impulse on every piece shot slivers off at 20 km/s). The
-// impulses load the bond graph first (over one substep), so that what they break is split
-// before they push the pieces; a fixed actor takes what is left.
+// of the mean mass gets (the same impulse on every piece shot slivers off at 20 km/s), and
+// throws none faster than kFastestThrow. The impulses load the bond graph's linear model first
+// (over one substep; a field of impulses on every piece is a load it splits as a body would),
+// so that what they break is split before they push the pieces; a fixed actor takes what is left.
 void Simulation::explode() {
     const Explosion& x = *settings_.explosion;
     const double before = totalEnergy();
@@ -786,13 +806,14 @@ void Simulation::explode() {
         const double dist = glm::length(d);
         if (dist >= x.radius) continue;
         const double falloff = (1.0 - dist / x.radius) * (1.0 - dist / x.radius);
-        const double area = std::cbrt(pieces_[i].mass / mean) * std::cbrt(pieces_[i].mass / mean);  // (m / m̄)^(2/3)
-        impulse[i] = (dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0)) * (x.impulse * falloff * area);
+        double speed = x.speed * falloff * std::cbrt(mean / pieces_[i].mass);  // impulse ∝ (m / m̄)^(2/3)
+        if (speed > kFastestThrow) speed = kFastestThrow, ++result_.clampedThrows;
+        impulse[i] = (dist > 1e-9 ? d / dist : glm::dvec3(0.0, 1.0, 0.0)) * (pieces_[i].mass * speed);
     }
     if (stress_) {
         NodeLoads loads = zeroLoads(n_ + 1);
         for (std::size_t i = 0; i < n_; ++i) loads.force[i] = glm::conjugate(meshOrientation(i)) * impulse[i] / dt_;
-        if (breakBonds(std::move(loads), nullptr)) splitActors();
+        if (breakBonds(std::move(loads), std::vector<bool>(n_ + 1, true), std::numeric_limits<int>::max())) splitActors();
     }
     for (std::size_t i = 0; i < n_; ++i) {
         btRigidBody& body = *w_.actors[actorOf_[i]];
@@ -850,18 +871,22 @@ void Simulation::limitSpin() {
     }
 }
 
-// One fixed Bullet step; while it breaks bonds, it is taken again from where it started with
-// the broken actors split (each retake breaks at least one more bond, so this ends). Then the
-// trigger when it is due.
+// One round of the structures that the last step's breaks changed carrying their weights, then
+// one fixed Bullet step; while its blows break bonds, it is taken again from where it started
+// with the broken actors split (each retake breaks at least one more bond, so this ends). Then
+// the trigger when it is due.
 void Simulation::step() {
     std::vector<BodyState> start;
+    std::vector<double> damage;
     limitSpin();
+    if (settleSupport()) splitActors();
     for (;;) {
         w_.dispatcher.dropStaleContacts();
-        if (stress_) start = saveStates(w_.actors, projectile_);
+        if (damage_) start = saveStates(w_.actors, projectile_), damage = damage_->damages();
         w_.world->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-        if (!breakOverloadedGlue()) break;
+        if (!breakStruckBonds()) break;
         restoreStates(start);
+        damage_->restore(damage);
         splitActors();
     }
     ++step_;
@@ -922,8 +947,13 @@ void Simulation::buildStressModel() {
     nodes[n_] = {glm::dvec3(0.0), 0.0, true};
     std::vector<StressLink> links;
     links.reserve(glue_.size());
-    for (const Bond& b : bonds_) links.push_back({b.a, b.b, b.centroid, b.normal, std::max(b.area, 1e-8)});
-    for (const GroundLink& g : ground_) links.push_back({g.piece, std::uint32_t(n_), g.point, {0.0, -1.0, 0.0}, g.area});
+    // Each link as stiff as it is strong: a pane's or a partition's bonds, weak, are as much
+    // softer, so they carry their share of the structure's deformation, not of its loads (with
+    // one modulus, a breach's sag broke window bonds across a building 12 m from it).
+    const auto modulus = [&](std::size_t i) { return glue_[i].strength / settings_.strength; };
+    for (const Bond& b : bonds_) links.push_back({b.a, b.b, b.centroid, b.normal, std::max(b.area, 1e-8), modulus(links.size())});
+    for (const GroundLink& g : ground_)
+        links.push_back({g.piece, std::uint32_t(n_), g.point, {0.0, -1.0, 0.0}, g.area, modulus(links.size())});
     stress_ = std::make_unique<BondStressModel>(std::move(nodes), std::move(links));
     NodeLoads weights = zeroLoads(n_ + 1);
     for (std::size_t i = 0; i < n_; ++i) weights.force[i] = pieces_[i].mass * settings_.gravity;
@@ -931,24 +961,40 @@ void Simulation::buildStressModel() {
     for (std::size_t i = 0; i < glue_.size(); ++i) glue_[i].restStress = rest[i];
 }
 
-// The contact impulses of the substep just taken, over its length, as forces and torques in
-// each piece's rest frame. True when a piece of a glued actor has one. What the ground, the
-// support or a collider does to a held piece is its ground link's part (the model holds it
-// there), so those contacts are left out.
-bool Simulation::contactLoads(NodeLoads& loads, std::vector<bool>& touched) const {
-    bool glued = false;
-    const auto add = [&](const btCollisionObject* body, int child, const btVector3& impulse, const btVector3& at,
-                         const btCollisionObject* other) {
+// The bond graph's damage model: the same links as the glue (bonds, then ground links), each
+// carrying its strength times its area.
+void Simulation::buildDamageModel() {
+    if (glue_.empty()) return;
+    std::vector<DamageLink> links;
+    links.reserve(glue_.size());
+    const auto add = [&](std::uint32_t a, std::uint32_t b, double area) {
+        const std::size_t i = links.size();
+        links.push_back({a, b, area, glue_[i].strength * area});
+    };
+    for (const Bond& b : bonds_) add(b.a, b.b, std::max(b.area, 1e-8));
+    for (const GroundLink& g : ground_) add(g.piece, std::uint32_t(n_), g.area);
+    damage_ = std::make_unique<DamageModel>(n_ + 1, std::uint32_t(n_), std::move(links),
+                                            DamageRules{settings_.damageTransmission, settings_.damageHops,
+                                                        settings_.damageHalfLife, settings_.impactTime});
+    unsettled_.assign(n_ + 1, false);
+}
+
+// The contact impulses of the substep just taken, summed per piece, strike the damage model.
+// True when one struck a piece of an actor that is awake or fixed. What the ground, the support
+// or a collider does to a held piece is its ground link's part (the model holds it there), so
+// those contacts are left out; asleep pairs have not changed and are skipped.
+bool Simulation::strikeGlue() {
+    std::vector<glm::dvec3> blow(n_, glm::dvec3(0.0));
+    bool struck = false;
+    const auto add = [&](const btCollisionObject* body, int child, const btVector3& impulse, const btCollisionObject* other) {
         const int a = body->getUserIndex();
         if (a < 0) return;
         const std::vector<std::uint32_t>& members = actors_[std::size_t(a)].pieces;
         if (members.size() > 1 && (child < 0 || std::size_t(child) >= members.size())) return;
         const std::uint32_t piece = members.size() == 1 ? members[0] : members[std::size_t(child)];
         if (other->getUserIndex() < 0 && other->isStaticObject() && held(piece)) return;  // its ground link stands for it
-        const glm::dquat back = glm::conjugate(meshOrientation(piece));
-        loads.force[piece] += back * toGlm(impulse) / dt_;
-        loads.torque[piece] += back * toGlm((at - pieceFrame(piece).getOrigin()).cross(impulse)) / dt_;
-        if (members.size() > 1) glued = true, touched[piece] = true;
+        blow[piece] += toGlm(impulse);
+        struck = true;
     };
     for (int m = 0; m < w_.dispatcher.getNumManifolds(); ++m) {
         const btPersistentManifold* manifold = w_.dispatcher.getManifoldByIndexInternal(m);
@@ -958,53 +1004,60 @@ bool Simulation::contactLoads(NodeLoads& loads, std::vector<bool>& touched) cons
             const btVector3 impulse = p.m_normalWorldOnB * p.getAppliedImpulse() +
                                       p.m_lateralFrictionDir1 * p.m_appliedImpulseLateral1 +
                                       p.m_lateralFrictionDir2 * p.m_appliedImpulseLateral2;
-            add(manifold->getBody0(), p.m_index0, impulse, p.getPositionWorldOnA(), manifold->getBody1());
-            add(manifold->getBody1(), p.m_index1, -impulse, p.getPositionWorldOnB(), manifold->getBody0());
+            add(manifold->getBody0(), p.m_index0, impulse, manifold->getBody1());
+            add(manifold->getBody1(), p.m_index1, -impulse, manifold->getBody0());
         }
     }
-    return glued;
+    for (std::uint32_t i = 0; struck && i < n_; ++i) damage_->strike(i, glm::length(blow[i]));
+    return struck;
+}
+
+// The substep's blows damage the bonds near them; those they break go. True when one broke.
+// The damage ages every substep, struck or not.
+bool Simulation::breakStruckBonds() {
+    if (!damage_) return false;
+    strikeGlue();
+    const std::vector<std::size_t> over = damage_->spread(dt_);
+    for (std::size_t link : over) breakLink(link, double(step_ + 1) * dt_);
+    return !over.empty();
 }
 
 // Adds the weights (in the rest frames) to `loads` and breaks the bonds whose stress exceeds
 // their rest stress by more than their strength, the most overloaded first (those over kFront
-// of the worst), then solves again without them, until none is over: a set of pieces cut
-// loose is balanced by its own inertia and passes its load on no further, so a break runs
-// from where the structure is loaded, as a crack does, instead of everywhere a load that a
-// rigid body takes at once would reach. Only the groups with a `touched` piece (all without
-// `touched`), and those a break changed, are solved. True when a bond broke.
-bool Simulation::breakBonds(NodeLoads loads, const std::vector<bool>* touched) {
+// of the worst), then solves again without them, for at most `rounds` rounds or until none is
+// over: a set of pieces cut loose is balanced by its own inertia and passes its load on no
+// further, so a break runs from where the structure is loaded, as a crack does. Only the
+// groups with an `active` node are solved, then those a break changed; the ends of the bonds
+// broken in the last round stay unsettled. True when a bond broke.
+bool Simulation::breakBonds(NodeLoads loads, std::vector<bool> active, int rounds) {
     for (std::size_t i = 0; i < n_; ++i)
         loads.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
-    std::vector<bool> active = touched ? *touched : std::vector<bool>(n_ + 1, true);
     bool any = false;
-    for (;;) {
+    for (int round = 0; round < rounds; ++round) {
         const std::vector<double> stress = stress_->stresses(loads, &active);
         std::vector<double> over(glue_.size(), 0.0);  // the stress above rest, in strengths
         for (std::size_t i = 0; i < glue_.size(); ++i)
             if (!glue_[i].broken) over[i] = (stress[i] - glue_[i].restStress) / glue_[i].strength;
         const double front = std::max(1.0, kFront * *std::max_element(over.begin(), over.end()));
+        std::fill(unsettled_.begin(), unsettled_.end(), false);
         bool broke = false;
         for (std::size_t i = 0; i < glue_.size(); ++i) {
             if (over[i] <= front) continue;
             breakLink(i, double(step_ + 1) * dt_);
-            const auto [a, b] = linkEnds(i);
-            active[a] = active[b] = true;
             broke = true;
         }
         if (!broke) break;
         any = true;
+        active = unsettled_;
     }
     return any;
 }
 
-// Evaluated when a glued actor was touched: a structure at rest with nothing on it does not
-// change (what a break changes, breakBonds evaluates at once).
-bool Simulation::breakOverloadedGlue() {
-    if (!stress_) return false;
-    NodeLoads loads = zeroLoads(n_ + 1);
-    std::vector<bool> touched(n_ + 1, false);
-    if (!contactLoads(loads, touched)) return false;
-    return breakBonds(std::move(loads), &touched);
+// One round of the structures that a break changed carrying their weights (Blast's stress
+// solver, bounded per step): what lost its support fails after the breach, starting next to it.
+bool Simulation::settleSupport() {
+    if (!stress_ || std::none_of(unsettled_.begin(), unsettled_.end(), [](bool u) { return u; })) return false;
+    return breakBonds(zeroLoads(n_ + 1), unsettled_, 1);
 }
 
 double Simulation::totalEnergy() const {

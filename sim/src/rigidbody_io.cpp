@@ -200,7 +200,8 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
     if (settings.explosion) {
         const Explosion& x = *settings.explosion;
         triggers.push_back({{"type", "explosion"}, {"time", settings.triggerTime}, {"center", vec(x.center)},
-                            {"radius", x.radius}, {"impulse", x.impulse}});
+                            {"radius", x.radius}, {"speed", x.speed},
+                            {"clamped_pieces", result.clampedThrows}});
     }
     if (settings.collapse) triggers.push_back({{"type", "collapse"}, {"time", settings.triggerTime}});
     j["triggers"] = std::move(triggers);
@@ -212,6 +213,10 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
                         {"max", {settings.support->max.x, settings.support->max.y}}};
     j["glue"] = {{"strength", settings.strength},
                  {"variation", settings.strengthVariation},
+                 {"impact_time", settings.impactTime},
+                 {"damage", {{"transmission", settings.damageTransmission},
+                             {"hops", settings.damageHops},
+                             {"half_life", settings.damageHalfLife}}},
                  {"bonds", result.bonds},
                  {"broken", result.brokenBonds},
                  {"anchor", settings.anchor},

@@ -22,7 +22,7 @@ enter_work "$work"
   # width of 7 texels makes 5 rows per frame, so the row arithmetic is exercised.
   tar -xzf /usr/share/doc/libcgal-demo/data.tar.gz --strip-components=2 data/meshes/elephant.off
   "$exe" -q fracture elephant.off -o fracture --pieces 24 --seed 3
-  "$exe" -q simulate fracture -o sim --frames 24 --explosion 0,-0.3,0 --explosion-impulse 300 --explosion-radius 2 \
+  "$exe" -q simulate fracture -o sim --frames 24 --explosion 0,-0.3,0 --explosion-speed 78 --explosion-radius 2 \
     --trigger-time 0.1
   for preset in unity unreal; do
     "$exe" -q vat sim -o vat --preset "$preset" --name "$preset" --max-width 7

@@ -43,14 +43,17 @@ struct Projectile {
     double radius = 1.0;                   // m
 };
 
-// An outward impulse on every piece whose centre of mass is within `radius` of `center`:
-// impulse · (1 - d/radius)^2 · (m / m̄)^(2/3), in N·s: a piece of the pieces' mean mass m̄ at
-// the centre gets `impulse`, a smaller piece less (as the area it shows to the blast).
+// An outward push on every piece whose centre of mass is within `radius` of `center`, in
+// units that mean the same for a vase and a tower: a piece of the pieces' mean mass m̄ at the
+// centre is thrown at `speed`, a piece of mass m at d at speed · (1 - d/radius)^2 · (m̄ / m)^(1/3)
+// (its impulse goes as the area it shows to the blast, (m / m̄)^(2/3)), and no piece faster than
+// kFastestThrow: a sliver that would be is thrown at that speed (SimulationResult::clampedThrows).
 struct Explosion {
     glm::dvec3 center{0.0};
-    double radius = 5.0;     // m
-    double impulse = 5e5;    // N·s at the centre, on a piece of the mean mass
+    double radius = 5.0;   // m
+    double speed = 25.0;   // m/s at the centre, of a piece of the mean mass; at most kFastestThrow
 };
+constexpr double kFastestThrow = 300.0;  // m/s
 
 // A flat floor under part of the scene: a horizontal plane at `height` that holds the pieces
 // whose centre of mass is over [min, max] (x, z), where the colliders let them through; over
@@ -73,8 +76,15 @@ struct SimulationSettings {
     std::optional<double> groundHeight;  // default: the lowest point of the pieces
     double friction = 0.6;
     double restitution = 0.1;
-    double strength = 1e6;            // glue, Pa: a bond breaks when its stress above its rest stress exceeds this; 0: no glue
+    double strength = 1e6;            // glue, Pa, of bonds with none of their own: see impactTime, and a bond whose stress
+                                      // under the weights exceeds its rest stress by this breaks; 0: no glue
     double strengthVariation = 0.2;   // relative, per bond, from the seed
+    // Contact damage (sim/src/damage.hpp): a blow of J N·s breaks a bond as a force J / impactTime
+    // held for impactTime would: it breaks when the damage it took exceeds strength · area · impactTime.
+    double impactTime = 0.015;        // s
+    double damageTransmission = 0.35; // of the impulse that reaches a piece, what it passes on to the next
+    int damageHops = 3;               // bonds from the piece struck that a blow reaches
+    double damageHalfLife = 1.0;      // s: accumulated damage halves in this time
     bool anchor = true;               // glued pieces resting on the ground or the support hold their set there
     bool sleep = true;                // bodies slower than 0.1 m/s and 0.2 rad/s for 0.4 s stop being simulated until hit
     int hullVertices = 48;            // collision hull vertex budget per piece
@@ -113,6 +123,7 @@ struct SimulationResult {
     std::size_t bonds = 0;            // bonds glued (0 without glue)
     std::size_t brokenBonds = 0;      // of which broken by the end
     double maxSpeed = 0.0;            // m/s, fastest piece at any frame
+    std::size_t clampedThrows = 0;    // pieces the explosion would have thrown faster than kFastestThrow
     std::vector<BondBreak> breaks;    // in the order they broke
     std::size_t actors = 0;           // bodies made for pieces: the first sets, then each split's
     std::size_t fixedActors = 0;      // of which fixed
