@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Contact damage against the speed of the blow: a 20 t ball of radius 1.5 m thrown along -z at
-# the middle of a generated building's +z face, at its second storey (4.5 m above its base), at
+# Contact damage against the speed of the blow: a 20 t ball of radius 1.5 m thrown along +x at
+# the middle of a generated building's -x face (building 2's street front; its +z face is a
+# party wall), at its second storey (4.5 m above its base), at
 # 5, 7.5, 10, 15, 20, 30 and 40 m/s, 150 frames each, in its city; every figure read back from
 # the files as written (bench/damage_sweep.py says how).
 #
@@ -26,7 +27,7 @@ mkdir -p "$work"
 [ -f "$work/fracture/fracture.json" ] ||
   "$dawnforge" --quiet fracture "$work/city" --building "$building" -o "$work/fracture" --pieces 400 >/dev/null
 
-# The target: mid-width of the +z face, 4.5 m above the base; the contact: where a ball of
+# The target: mid-depth of the -x face, 4.5 m above the base; the contact: where a ball of
 # radius 1.5 m on that line first meets a piece's vertex.
 read -r target contact < <(python3 - "$work/fracture/fracture.json" "$work/fracture/fragments.glb" <<'PY'
 import json, struct, sys
@@ -48,15 +49,15 @@ for node in gltf["nodes"]:
         points.append((x + t[0], y + t[1], z + t[2]))
 lo = [min(p[c] for p in points) for c in range(3)]
 hi = [max(p[c] for p in points) for c in range(3)]
-x, y = (lo[0] + hi[0]) / 2, lo[1] + 4.5
-z = max(p[2] for p in points if (p[0] - x) ** 2 + (p[1] - y) ** 2 <= 1.5 ** 2)
-print(f"{x},{y},{hi[2]} {x},{y},{z}")
+z, y = (lo[2] + hi[2]) / 2, lo[1] + 4.5
+x = min(p[0] for p in points if (p[2] - z) ** 2 + (p[1] - y) ** 2 <= 1.5 ** 2)
+print(f"{lo[0]},{y},{z} {x},{y},{z}")
 PY
 )
 python3 "$here/damage_sweep.py" --header
 for speed in "${speeds[@]}"; do
   out=$work/sim_$speed
-  "$dawnforge" --quiet simulate "$work/fracture" -o "$out" --frames 150 --projectile "$target" --projectile-dir 0,0,-1 \
+  "$dawnforge" --quiet simulate "$work/fracture" -o "$out" --frames 150 --projectile "$target" --projectile-dir 1,0,0 \
     --projectile-mass 20000 --projectile-radius 1.5 --projectile-speed "$speed" "$@" >/dev/null
   python3 "$here/damage_sweep.py" "$work/fracture" "$out" "$contact"
 done

@@ -33,7 +33,7 @@ struct DamageRules {
     double transmission = 0.35; // of the impulse that reached a piece, what it passes on
     int hops = 3;               // links from the piece struck that a blow reaches
     double halfLife = 1.0;      // s: accumulated damage halves in this time
-    double impactTime = 0.015;  // s: a link breaks when its damage exceeds force · impactTime
+    double impactTime = 0.01;   // s: a link breaks when its damage exceeds force · impactTime
 };
 
 class DamageModel {

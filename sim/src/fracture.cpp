@@ -1279,6 +1279,17 @@ double weightedVolume(const Mesh& mesh, const FractureSettings& s) {
     return std::max(sum, 0.0);
 }
 
+// The length of a part as a bar whose section is h (the smallest extent of its bounds) by d: its
+// surface's half is L·(h + d), its volume L·h·d. A band round a building is 46 m long; a wall,
+// a slab or a block comes out no longer than about its perimeter's half.
+double surfaceArea(const Mesh& mesh);
+double barLength(const Mesh& mesh, double volume) {
+    const Bounds b = computeBounds(mesh.positions);
+    const glm::dvec3 e = b.max - b.min;
+    const double h = std::max(std::min({e.x, e.y, e.z}), 1e-3);
+    return std::max(0.0, (0.5 * surfaceArea(mesh) - volume / h) / h);
+}
+
 double surfaceArea(const Mesh& mesh) {
     double area = 0.0;
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -1349,9 +1360,9 @@ Bounds describeParts(std::span<const FracturePart> parts, const PartsFractureSet
 }
 
 // Each part's own settings: its cells (Voronoi parts share `pieces` by weighted volume, and a
-// thin one gets at least one cell per (2s)² of one face, s the mean cell's size, so that a trim
-// band round a building is not one 50 m ring; shards and splinters by the area of one face of
-// the plate), density, seed and grain.
+// thin one gets at least one cell per (2s)² of one face and a slender one one per 2s of its
+// length, s the mean cell's size, so that a trim band round a building is not one 46 m ring;
+// shards and splinters by the area of one face of the plate), density, seed and grain.
 std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, const PartsFractureSettings& settings,
                                         FractureResult& result) {
     const std::size_t n = parts.size();
@@ -1372,7 +1383,9 @@ std::vector<FractureSettings> planParts(std::span<const FracturePart> parts, con
         switch (result.parts[i].style) {
             case BreakStyle::Voronoi:
                 cells = totalWeight > 0.0 ? settings.common.pieces * weights[i] / totalWeight : 1.0;
-                if (cellSize > 0.0) cells = std::max(cells, area / (4.0 * cellSize * cellSize));
+                if (cellSize > 0.0)
+                    cells = std::max({cells, area / (4.0 * cellSize * cellSize),
+                                      barLength(part.mesh, result.parts[i].volume) / (2.0 * cellSize)});
                 break;
             case BreakStyle::Shards: cells = area / (settings.shardSize * settings.shardSize); break;
             case BreakStyle::Splinters:

@@ -263,7 +263,7 @@ TEST(Rigidbody, WhatLostItsSupportFailsAfterTheBreach) {
 }
 
 // A wall of 8 × 5 boxes (1 × 1 × 0.4 m, 200 kg) standing on the ground, hit in the middle of
-// its third row by a 2 t ball at three speeds: the damage grows with the speed and stays where
+// its third row by a 2 t ball at 1.5, 10 and 30 m/s: the damage grows with the speed and stays where
 // the ball landed (no bond breaks more than 3 m from the contact, and the pieces 3.5 m or more
 // from it do not move), and a light fast ball of the same energy chips less than the heavy one.
 TEST(Rigidbody, ContactDamageGrowsWithTheBlowAndStaysWhereItLands) {
@@ -284,7 +284,7 @@ TEST(Rigidbody, ContactDamageGrowsWithTheBlowAndStaysWhereItLands) {
         return simulate(pieces, bonds, s);
     };
     std::vector<std::size_t> broken;
-    for (double speed : {3.0, 10.0, 30.0}) {
+    for (double speed : {1.5, 10.0, 30.0}) {
         const SimulationResult r = hit(2000.0, speed);
         for (const BondBreak& b : r.breaks) EXPECT_LT(glm::length(bonds[b.bond].centroid - contact), 3.0) << speed;
         for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -294,7 +294,7 @@ TEST(Rigidbody, ContactDamageGrowsWithTheBlowAndStaysWhereItLands) {
         }
         broken.push_back(r.brokenBonds);
     }
-    EXPECT_EQ(broken[0], 0u) << "a 2 t ball at 3 m/s";
+    EXPECT_EQ(broken[0], 0u) << "a 2 t ball at 1.5 m/s";
     EXPECT_GT(broken[1], 0u);
     EXPECT_GT(broken[2], broken[1]);
     // The same energy as 2 t at 10 m/s, from 200 kg at 31.6 m/s: a third of the impulse.

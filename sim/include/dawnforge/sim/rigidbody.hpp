@@ -81,7 +81,7 @@ struct SimulationSettings {
     double strengthVariation = 0.2;   // relative, per bond, from the seed
     // Contact damage (sim/src/damage.hpp): a blow of J N·s breaks a bond as a force J / impactTime
     // held for impactTime would: it breaks when the damage it took exceeds strength · area · impactTime.
-    double impactTime = 0.015;        // s
+    double impactTime = 0.01;         // s
     double damageTransmission = 0.35; // of the impulse that reaches a piece, what it passes on to the next
     int damageHops = 3;               // bonds from the piece struck that a blow reaches
     double damageHalfLife = 1.0;      // s: accumulated damage halves in this time
