@@ -191,7 +191,7 @@ int runFracture(FractureOptions& options, const CommonOptions& common) {
 
 void addSeedOptions(CLI::App& cmd, FractureOptions& o) {
     sim::FractureSettings& s = o.settings;
-    cmd.add_option("--pieces", s.pieces, "Number of Voronoi cells (seeds), exact for uniform sampling")
+    cmd.add_option("--pieces", s.pieces, "Number of Voronoi cells (seeds), exact for uniform sampling; with --building, shared by the parts by volume, thin and slender parts getting more")
         ->check(CLI::PositiveNumber)->capture_default_str();
     cmd.add_option("--seed", s.seed, "Random seed")->capture_default_str();
     addPointOption(cmd, "--impact", s.impact, "Cluster smaller pieces around this point X,Y,Z (m)");
