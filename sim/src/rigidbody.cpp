@@ -32,6 +32,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 namespace dawnforge::sim {
 
@@ -405,7 +406,7 @@ private:
     std::vector<std::vector<std::uint32_t>> connectedSets() const;
     void buildStressModel();
     void buildDamageModel();
-    bool strikeGlue();
+    void strikeGlue();
     bool breakStruckBonds();
     void breakLink(std::size_t link, double time);
     bool breakBonds(NodeLoads loads, std::vector<bool> active, int rounds);
@@ -980,10 +981,10 @@ void Simulation::buildDamageModel() {
 }
 
 // The contact impulses of the substep just taken, summed per piece, strike the damage model.
-// True when one struck a piece of an actor that is awake or fixed. What the ground, the support
-// or a collider does to a held piece is its ground link's part (the model holds it there), so
-// those contacts are left out; asleep pairs have not changed and are skipped.
-bool Simulation::strikeGlue() {
+// What the ground, the support or a collider does to a held piece is its ground link's part
+// (the model holds it there), so those contacts are left out; asleep pairs have not changed and
+// are skipped.
+void Simulation::strikeGlue() {
     std::vector<glm::dvec3> blow(n_, glm::dvec3(0.0));
     bool struck = false;
     const auto add = [&](const btCollisionObject* body, int child, const btVector3& impulse, const btCollisionObject* other) {
@@ -1009,7 +1010,6 @@ bool Simulation::strikeGlue() {
         }
     }
     for (std::uint32_t i = 0; struck && i < n_; ++i) damage_->strike(i, glm::length(blow[i]));
-    return struck;
 }
 
 // The substep's blows damage the bonds near them; those they break go. True when one broke.
@@ -1027,8 +1027,8 @@ bool Simulation::breakStruckBonds() {
 // of the worst), then solves again without them, for at most `rounds` rounds or until none is
 // over: a set of pieces cut loose is balanced by its own inertia and passes its load on no
 // further, so a break runs from where the structure is loaded, as a crack does. Only the
-// groups with an `active` node are solved, then those a break changed; the ends of the bonds
-// broken in the last round stay unsettled. True when a bond broke.
+// groups with an `active` node are solved, and those a break changed; the ends of the bonds
+// broken stay unsettled, for the next substep. True when a bond broke.
 bool Simulation::breakBonds(NodeLoads loads, std::vector<bool> active, int rounds) {
     for (std::size_t i = 0; i < n_; ++i)
         loads.force[i] += glm::conjugate(meshOrientation(i)) * (pieces_[i].mass * settings_.gravity);
@@ -1039,16 +1039,16 @@ bool Simulation::breakBonds(NodeLoads loads, std::vector<bool> active, int round
         for (std::size_t i = 0; i < glue_.size(); ++i)
             if (!glue_[i].broken) over[i] = (stress[i] - glue_[i].restStress) / glue_[i].strength;
         const double front = std::max(1.0, kFront * *std::max_element(over.begin(), over.end()));
-        std::fill(unsettled_.begin(), unsettled_.end(), false);
         bool broke = false;
         for (std::size_t i = 0; i < glue_.size(); ++i) {
             if (over[i] <= front) continue;
             breakLink(i, double(step_ + 1) * dt_);
+            const auto [a, b] = linkEnds(i);
+            active[a] = active[b] = true;
             broke = true;
         }
         if (!broke) break;
         any = true;
-        active = unsettled_;
     }
     return any;
 }
@@ -1057,7 +1057,8 @@ bool Simulation::breakBonds(NodeLoads loads, std::vector<bool> active, int round
 // solver, bounded per step): what lost its support fails after the breach, starting next to it.
 bool Simulation::settleSupport() {
     if (!stress_ || std::none_of(unsettled_.begin(), unsettled_.end(), [](bool u) { return u; })) return false;
-    return breakBonds(zeroLoads(n_ + 1), unsettled_, 1);
+    std::vector<bool> active = std::exchange(unsettled_, std::vector<bool>(n_ + 1, false));
+    return breakBonds(zeroLoads(n_ + 1), std::move(active), 1);
 }
 
 double Simulation::totalEnergy() const {
