@@ -24,8 +24,8 @@ void DamageModel::strike(std::uint32_t node, double impulse) {
 // nodes not reached before hop k (a share that would go back towards the blow is not counted:
 // a sliver that is a piece's only way on takes its share, not the whole blow); a node not
 // reached before holds `transmission` of it at hop k + 1, and one reached at hop k (struck
-// beside it) only takes the damage. Nodes and links are visited in
-// ascending order, so the sums are the same on every run.
+// beside it) only takes the damage. Nodes and links are visited in ascending order, so the
+// sums are the same on every run.
 std::vector<std::size_t> DamageModel::spread(double dt) {
     const double age = std::exp2(-dt / rules_.halfLife);
     for (double& d : damage_) d *= age;
@@ -33,6 +33,7 @@ std::vector<std::size_t> DamageModel::spread(double dt) {
     std::vector<double> held(nodes_, 0.0);
     std::vector<std::uint32_t> front;
     for (std::uint32_t p = 0; p < nodes_; ++p) {
+        if (!(struck_[p] > 0.0)) continue;
         double carried = 0.0;  // what its links hold over the step
         for (std::uint32_t l : nodeLinks_[p])
             if (!broken_[l]) carried += links_[l].force * dt;
