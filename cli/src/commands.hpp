@@ -20,6 +20,7 @@ Command addInspect(CLI::App& app, CommonOptions& common);
 Command addFracture(CLI::App& app, CommonOptions& common);
 Command addSimulate(CLI::App& app, CommonOptions& common);
 Command addVat(CLI::App& app, CommonOptions& common);
+Command addAnim(CLI::App& app, CommonOptions& common);
 Command addCity(CLI::App& app, CommonOptions& common);
 Command addDemo(CLI::App& app, CommonOptions& common);
 Command addRender(CLI::App& app, CommonOptions& common);

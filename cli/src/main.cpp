@@ -20,6 +20,7 @@ using namespace dawnforge;
 std::vector<cli::Command> addCommands(CLI::App& app, cli::CommonOptions& common) {
     std::vector<cli::Command> commands{cli::addInspect(app, common), cli::addFracture(app, common),
                                        cli::addSimulate(app, common), cli::addVat(app, common),
+                                       cli::addAnim(app, common),
                                        cli::addCity(app, common),     cli::addDemo(app, common),
                                        cli::addRender(app, common),   cli::addView(app, common),
                                        cli::addBake(app, common),     cli::addPivots(app, common),

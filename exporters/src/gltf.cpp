@@ -106,6 +106,8 @@ public:
         return index;
     }
 
+    tinygltf::Accessor& accessor(int index) { return model_.accessors[std::size_t(index)]; }
+
     std::size_t size() const { return (size_ + 3) & ~std::size_t(3); }
     // Hands the whole buffer to `sink(data, bytes)` view by view, with the zero padding
     // between views; one view at a time is held in memory.
@@ -205,6 +207,58 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
     return out;
 }
 
+// A sampler's keys: times (SCALAR, with the min and max glTF requires of an input) and
+// values (VEC3, or VEC4 quaternions x, y, z, w); not vertex data, so no buffer target.
+int addSampler(tinygltf::Animation& out, BufferBuilder& buffers, const std::vector<float>& times,
+               BufferBuilder::Writer values, int type) {
+    tinygltf::AnimationSampler sampler;
+    sampler.interpolation = "LINEAR";
+    sampler.input = buffers.add(times.data(), times.size() * 4, times.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                TINYGLTF_TYPE_SCALAR, 0);
+    buffers.accessor(sampler.input).minValues = {times.front()};
+    buffers.accessor(sampler.input).maxValues = {times.back()};
+    const std::size_t width = type == TINYGLTF_TYPE_VEC4 ? 16 : 12;
+    sampler.output = buffers.add(std::move(values), times.size() * width, times.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                 type, 0);
+    out.samplers.push_back(std::move(sampler));
+    return static_cast<int>(out.samplers.size() - 1);
+}
+
+tinygltf::Animation encodeAnimation(const Animation& animation, BufferBuilder& buffers, std::size_t nodes) {
+    tinygltf::Animation out;
+    out.name = animation.name;
+    auto channel = [&out](int sampler, std::uint32_t node, const char* path) {
+        tinygltf::AnimationChannel c;
+        c.sampler = sampler;
+        c.target_node = static_cast<int>(node);
+        c.target_path = path;
+        out.channels.push_back(std::move(c));
+    };
+    for (const NodeTrack& track : animation.tracks) {
+        DAWNFORGE_ASSERT(track.node < nodes, "an animation track refers to a missing node");
+        DAWNFORGE_ASSERT(track.translationTimes.size() == track.translations.size() &&
+                             track.rotationTimes.size() == track.rotations.size(),
+                         "an animation track has as many keys as times");
+        if (!track.translations.empty()) {
+            const std::vector<glm::vec3>& t = track.translations;
+            channel(addSampler(out, buffers, track.translationTimes,
+                               [&t](unsigned char* o) { std::memcpy(o, t.data(), t.size() * 12); }, TINYGLTF_TYPE_VEC3),
+                    track.node, "translation");
+        }
+        if (!track.rotations.empty()) {
+            const std::vector<glm::quat>& r = track.rotations;
+            auto xyzw = [&r](unsigned char* o) {  // glm's (w, x, y, z) is not its storage order everywhere
+                for (std::size_t i = 0; i < r.size(); ++i) {
+                    const float q[4] = {r[i].x, r[i].y, r[i].z, r[i].w};
+                    std::memcpy(o + 16 * i, q, 16);
+                }
+            };
+            channel(addSampler(out, buffers, track.rotationTimes, xyzw, TINYGLTF_TYPE_VEC4), track.node, "rotation");
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 namespace {
@@ -257,6 +311,8 @@ GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
         n.extras = extrasOf(node.extrasJson);
         model.nodes.push_back(std::move(n));
     }
+    for (const Animation& animation : scene.animations)
+        model.animations.push_back(encodeAnimation(animation, buffers, scene.nodes.size()));
     tinygltf::Scene s;
     s.name = "scene";
     for (std::uint32_t r : scene.roots) s.nodes.push_back(static_cast<int>(r));

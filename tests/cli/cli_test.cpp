@@ -6,6 +6,7 @@
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/core/seed.hpp>
+#include <dawnforge/exporters/animation.hpp>
 #include <dawnforge/exporters/image.hpp>
 #include <dawnforge/exporters/vat.hpp>
 #include <dawnforge/procgen/city.hpp>
@@ -82,7 +83,8 @@ void expectReportOpensInChromium(const std::filesystem::path& report, int images
 TEST(Cli, HelpListsEveryCommandOfTheArchitecture) {
     const RunResult r = test::runDawnforge({"--help"});
     EXPECT_EQ(r.exitCode, 0);
-    for (const char* cmd : {"inspect", "city", "fracture", "simulate", "vat", "bake", "render", "view", "demo", "pivots"}) {
+    for (const char* cmd :
+         {"inspect", "city", "fracture", "simulate", "vat", "anim", "bake", "render", "view", "demo", "pivots"}) {
         EXPECT_NE(r.out.find(std::string("\n  ") + cmd + " "), std::string::npos) << cmd;
         EXPECT_EQ(test::runDawnforge({cmd, "--help"}).exitCode, 0) << cmd;
     }
@@ -115,6 +117,7 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
     const sim::Projectile p;
     const sim::Explosion e;
     const exporters::VatSettings v;
+    const exporters::AnimationSettings a;
     const procgen::CitySettings c;
     const runtime::RendererOptions ro;
     const bake::BakeSettings b;
@@ -150,6 +153,9 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
         {"vat",
          {{"--preset", std::string(exporters::vatPresetName(v.preset))}, {"--max-width", shown(v.maxWidth)},
           {"--name", v.name}}},
+        {"anim",
+         {{"--position-tolerance", shown(a.positionTolerance)},
+          {"--rotation-tolerance", shown(a.rotationTolerance * 180.0 / M_PI)}}},
         {"city",
          {{"--seed", shown(double(c.seed))}, {"--size", shown(c.size.x) + "x" + shown(c.size.y)},
           {"--tile-size", shown(c.tileSize)}, {"--threads", "0"}}},
@@ -480,6 +486,16 @@ void makeFractureFolder(const TempDir& dir) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
 }
 
+// DIR/fracture and DIR/sim: the block simulated for `frames` frames, after `extra` options.
+void makeSimulationFolder(const TempDir& dir, const std::string& frames, const std::vector<std::string>& extra = {}) {
+    makeFractureFolder(dir);
+    std::vector<std::string> args{"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames",
+                                  frames};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = test::runDawnforge(args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+}
+
 }  // namespace
 
 TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
@@ -588,11 +604,7 @@ TEST(CliSimulate, BadInputExits2AndWritesNothing) {
 
 TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
     TempDir dir;
-    makeFractureFolder(dir);
-    ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames",
-                                  "20", "--collapse"})
-                  .exitCode,
-              0);
+    makeSimulationFolder(dir, "20", {"--collapse"});
     for (const char* preset : {"native", "unreal", "unity"}) {
         const RunResult r = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "vat").string(), "--preset",
                                                 preset, "--name", preset, "--max-width", "5"});
@@ -614,11 +626,7 @@ TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
 
 TEST(CliVat, BadInputExits2AndWritesNothing) {
     TempDir dir;
-    makeFractureFolder(dir);
-    ASSERT_EQ(test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(), "--frames",
-                                  "1000"})
-                  .exitCode,
-              0);
+    makeSimulationFolder(dir, "1000");
     const std::string sim = (dir / "sim").string(), out = (dir / "out").string();
     // 12 pieces at width 1 take 12 rows per frame: 1000 frames need 12,000 rows; 682 fit.
     expectBadInput({"vat", sim, "-o", out, "--max-width", "1"}, "at most 682 frames fit");
@@ -634,6 +642,40 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
     test::writeText(dir / "short" / "transforms.bin", std::string(bytes.begin(), bytes.end()));
     expectBadInput({"vat", (dir / "short").string(), "-o", out}, "transforms.bin");
     EXPECT_FALSE(std::filesystem::exists(dir / "out"));
+}
+
+TEST(CliAnim, WritesANodePerPieceAndAValidAnimation) {
+    TempDir dir;
+    makeSimulationFolder(dir, "20", {"--collapse"});
+    const RunResult r = test::runDawnforge({"anim", (dir / "sim").string(), "-o", (dir / "sim.glb").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(test::contains(r.out, "worst error at a frame")) << r.out;
+    test::expectValidGltf(dir / "sim.glb");
+    const auto glb = test::readBytes(dir / "sim.glb");
+    std::uint32_t length = 0;
+    std::memcpy(&length, glb.data() + 12, 4);
+    const nlohmann::json j = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(glb.data()) + 20, length));
+    const nlohmann::json sim = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
+    ASSERT_EQ(j["nodes"].size(), sim["piece_names"].size());
+    for (std::size_t i = 0; i < j["nodes"].size(); ++i) EXPECT_EQ(j["nodes"][i]["name"], sim["piece_names"][i]);
+    ASSERT_EQ(j["animations"].size(), 1u);
+    EXPECT_EQ(j["animations"][0]["channels"].size(), 2 * sim["piece_names"].size());
+    // The same simulation gives the same bytes.
+    ASSERT_EQ(test::runDawnforge({"anim", (dir / "sim").string(), "-o", (dir / "again.glb").string()}).exitCode, 0);
+    EXPECT_EQ(test::readBytes(dir / "again.glb"), glb);
+}
+
+TEST(CliAnim, BadInputExits2AndWritesNothing) {
+    TempDir dir;
+    makeSimulationFolder(dir, "5");
+    const std::string sim = (dir / "sim").string(), out = (dir / "out.glb").string();
+    expectBadInput({"anim", sim, "-o", (dir / "out.gltf").string()}, "must be a .glb file");
+    expectBadInput({"anim", sim, "-o", out, "--rotation-tolerance", "20"}, "--rotation-tolerance");
+    expectBadInput({"anim", sim, "-o", out, "--position-tolerance", "-1"}, "--position-tolerance");
+    expectBadInput({"anim", (dir / "fracture").string(), "-o", out}, "sim.json");
+    expectBadInput({"anim", sim, "-o", (dir / "missing" / "out.glb").string()}, "missing");
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.glb"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.gltf"));
 }
 
 // Assimp's glTF 2.0 test scene: 12 mesh nodes, 6 of them children of others. The expected

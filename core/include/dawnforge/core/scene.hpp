@@ -20,10 +20,26 @@ struct Node {
     std::string extrasJson;                       // a JSON object for glTF "extras", or empty
 };
 
+// A node's motion: keys at times in seconds (increasing), each list interpolated linearly
+// (rotations by slerp, as glTF's LINEAR). An empty list leaves that property still.
+struct NodeTrack {
+    std::uint32_t node = 0;  // index into Scene::nodes
+    std::vector<float> translationTimes;
+    std::vector<glm::vec3> translations;
+    std::vector<float> rotationTimes;
+    std::vector<glm::quat> rotations;
+};
+
+struct Animation {
+    std::string name;
+    std::vector<NodeTrack> tracks;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> roots;  // nodes without a parent, in order
+    std::vector<Animation> animations;
     std::string extrasJson;            // a JSON object for the scene's "extras", or empty
 
     // Adds a mesh and a root node that shows it; returns the node's index.

@@ -2,7 +2,8 @@
 // glTF 2.0 output (GLB). One glTF mesh per Scene mesh, one node per Scene node.
 // Attributes: POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1, COLOR_0 (binary RGBA material
 // ID, unsigned byte normalized) and the custom attribute _PIECE_ID (float scalar: glTF
-// vertex attributes cannot be 32-bit integers; exact up to 2^24 pieces).
+// vertex attributes cannot be 32-bit integers; exact up to 2^24 pieces). Scene animations
+// become glTF animations: per track a translation and a rotation channel, LINEAR samplers.
 #include <dawnforge/core/scene.hpp>
 
 #include <cstddef>
