@@ -8,8 +8,10 @@
 #   bench/damage_sweep.sh DAWNFORGE [BUILDING [SPEEDS...]] [-- SIMULATE_OPTIONS...]
 #
 # BUILDING: the id of a building of the default recipe's 400 x 400 m district, seed 1 (default
-# 2, 4 storeys, fractured with `fracture --building` into 400 Voronoi cells, 833 pieces). Keeps its folders in
-# $DAMAGE_SWEEP_KEEP when that is set.
+# 2, 4 storeys, fractured with `fracture --building` into 400 Voronoi cells, 1,093 pieces). Keeps its folders in
+# $DAMAGE_SWEEP_KEEP when that is set. DAMAGE_SWEEP_REFINE=R fractures it again with the cells
+# clustered within R m of the contact (`--impact CONTACT --radius R`, as the demo fractures its
+# building), the way an artist who knows where the blow lands would.
 set -euo pipefail
 here=$(dirname "$(realpath "$0")")
 dawnforge=$(realpath "$1")
@@ -29,7 +31,8 @@ mkdir -p "$work"
 
 # The target: mid-depth of the -x face, 4.5 m above the base; the contact: where a ball of
 # radius 1.5 m on that line first meets a piece's vertex.
-read -r target contact < <(python3 - "$work/fracture/fracture.json" "$work/fracture/fragments.glb" <<'PY'
+aim() {
+python3 - "$work/fracture/fracture.json" "$work/fracture/fragments.glb" <<'PY'
 import json, struct, sys
 f = json.load(open(sys.argv[1]))
 data = open(sys.argv[2], "rb").read()
@@ -53,7 +56,14 @@ z, y = (lo[2] + hi[2]) / 2, lo[1] + 4.5
 x = min(p[0] for p in points if (p[2] - z) ** 2 + (p[1] - y) ** 2 <= 1.5 ** 2)
 print(f"{lo[0]},{y},{z} {x},{y},{z}")
 PY
-)
+}
+read -r target contact < <(aim)
+if [ -n "${DAMAGE_SWEEP_REFINE:-}" ] && [ ! -f "$work/refined" ]; then
+  "$dawnforge" --quiet fracture "$work/city" --building "$building" -o "$work/fracture" --pieces 400 \
+    --impact "$contact" --radius "$DAMAGE_SWEEP_REFINE" >/dev/null
+  touch "$work/refined"
+  read -r target contact < <(aim)
+fi
 python3 "$here/damage_sweep.py" --header
 for speed in "${speeds[@]}"; do
   out=$work/sim_$speed
