@@ -81,6 +81,37 @@ set +e
 python3 "$here/check.py" check "$work" "$work/report.jsonl"
 result=$?
 set -e
+# The simulation as a glTF animation (dawnforge anim), played by Blender frame by frame: every
+# piece within 1 mm and 0.1 degrees of transforms.bin (blender/anim_compare.py); a building hit by
+# a ball, whose resting pieces keep two keys a channel; and a copy with one piece's keys moved
+# 5 mm, which must be caught.
+target=$(python3 -c "import json
+b = next(b for b in json.load(open('city/city.json'))['buildings'] if b['id'] == 1)
+f = b['footprint']
+print('%.2f,%.2f,%.2f' % (sum(p[0] for p in f) / len(f), 0.4 * b['height'], -sum(p[1] for p in f) / len(f)))")
+df fracture city --building 1 -o building_fracture --pieces 40 --threads 2
+df simulate building_fracture -o building_sim --frames 40 --projectile "$target" --projectile-radius 1.5 --threads 2
+df anim sim -o anim_u_prism.glb
+df anim building_sim -o anim_building.glb
+python3 "$here/anim_compare.py" --mutate anim_building.glb anim_mutant.glb
+play() {  # play GLB SIM_DIR: Blender's matrices at every frame, in GLB.json
+  local frames fps
+  read -r frames fps < <(python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(j['frames'], j['fps'])" "$2/sim.json")
+  blender -b --factory-startup --python-exit-code 1 --python "$here/anim_play.py" -- "$1" "$fps" "$frames" "$1.json" \
+    >>"$work/blender_anim.log" 2>&1 || { echo "FAIL blender could not play $1 (see $work/blender_anim.log)"; result=1; }
+}
+play anim_u_prism.glb sim
+play anim_building.glb building_sim
+play anim_mutant.glb building_sim
+python3 "$here/anim_compare.py" sim anim_u_prism.glb.json || result=1
+python3 "$here/anim_compare.py" building_sim anim_building.glb.json || result=1
+if python3 "$here/anim_compare.py" building_sim anim_mutant.glb.json >mutant.txt; then
+  echo "FAIL the animation check did not notice keys moved 5 mm: $(cat mutant.txt)"
+  result=1
+else
+  echo "ok: keys moved 5 mm are caught: $(head -c 160 mutant.txt)"
+fi
+
 echo "consumers.blender: ${#files[@]} files imported, $(( $(date +%s) - start )) s"
 if [ $result -ne 0 ] || [ $status -ne 0 ]; then
   echo "consumers.blender: FAILED (the FAIL lines above say what Blender saw and what was expected)"
