@@ -7,10 +7,14 @@
   check.py pivots REPORT.json           every vertex's element, parent, pivot (within the rounding
                                         of a half float), X axis (within 1/255) and extent (within
                                         half of the 8-bit step of 2048/255 cm)
+  check.py anim REPORT.json SIM_DIR     every piece (a node named as sim.json's piece_names) at
+                                        every frame within 1 mm and 0.1 degrees of transforms.bin
 
 Prints one line per report; exits 1 with the reason when a bound does not hold.
 """
 import json
+import math
+import struct
 import sys
 
 
@@ -58,6 +62,31 @@ def check_pivots(report):
     print(f"ok: {label}: pivot within {w['pivot_cm']:.3g} cm, axis {w['axis']:.4f}, extent {w['extent_cm']:.3g} cm")
 
 
+def check_anim(report, sim_dir):
+    r = report["result"]
+    sim = json.load(open(f"{sim_dir}/sim.json"))
+    n, frames, names = sim["pieces"], sim["frames"], sim["piece_names"]
+    data = open(f"{sim_dir}/transforms.bin", "rb").read()
+    label = f'{sim_dir} ({n} pieces, {frames} frames, clip "{r["clip"]}" with {r["tracks"]} tracks)'
+    missing = [name for name in names if len(r["poses"].get(name, [])) != frames]
+    if missing:
+        fail(f"{label}: {len(missing)} pieces not played at every frame (first: {missing[0]})")
+    worst_p, worst_d, where = 0.0, 0.0, ""
+    for i, name in enumerate(names):
+        for k, got in enumerate(r["poses"][name]):
+            want = struct.unpack_from("<7f", data, (k * n + i) * 28)
+            worst_p = max(worst_p, math.dist(got[:3], want[:3]))
+            # the angle between two unit quaternions, either sign: 4 atan2(|a - b|, |a + b|)
+            b = want[3:] if sum(x * y for x, y in zip(got[3:], want[3:])) >= 0 else [-x for x in want[3:]]
+            d = math.degrees(4 * math.atan2(math.dist(got[3:], b), math.hypot(*[x + y for x, y in zip(got[3:], b)])))
+            if d > worst_d:
+                worst_d, where = d, f"{name} at frame {k}"
+    if not (worst_p <= 0.001 and worst_d <= 0.1):
+        fail(f"{label}: a piece is {worst_p * 1000:.3g} mm and {worst_d:.3g} degrees from the simulation ({where}); "
+             f"the bounds are 1 mm and 0.1 degrees")
+    print(f"ok: {label}: worst {worst_p * 1000:.3g} mm, {worst_d:.3g} degrees")
+
+
 def main():
     kind, path = sys.argv[1], sys.argv[2]
     with open(path) as f:
@@ -68,6 +97,8 @@ def main():
         check_vat(report, float(sys.argv[3]))
     elif kind == "pivots":
         check_pivots(report)
+    elif kind == "anim":
+        check_anim(report, sys.argv[3])
     else:
         fail(f"unknown kind {kind}")
 
