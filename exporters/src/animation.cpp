@@ -101,7 +101,6 @@ PieceTrack trackPiece(const PieceMotion& motion, std::size_t piece, const Animat
     });
 
     PieceTrack out;
-    out.track.node = static_cast<std::uint32_t>(piece);
     const auto time = [&](int k) { return static_cast<float>(k / motion.fps); };
     for (int k : moves) {
         out.track.translationTimes.push_back(time(k));
@@ -126,9 +125,8 @@ PieceAnimation animatePieces(const PieceMotion& motion, const AnimationSettings&
     for (std::size_t i = 0; i < motion.pieces.size(); ++i) {
         Mesh mesh = motion.pieces[i];
         mesh.name = motion.names[i];
-        const std::uint32_t node = out.scene.addMeshNode(std::move(mesh));
+        const std::uint32_t node = out.scene.addMeshNode(std::move(mesh));  // named as its mesh
         PieceTrack piece = trackPiece(motion, i, settings);
-        out.scene.nodes[node].name = motion.names[i];
         out.scene.nodes[node].translation = piece.track.translations.front();
         out.scene.nodes[node].rotation = piece.track.rotations.front();
         out.translationKeys += piece.track.translations.size();

@@ -24,10 +24,7 @@ enter_work "$work"
     --trigger-time 0.1
   "$exe" -q anim sim -o elephant.glb
   "$exe" -q city -o city --size 120x100 --seed 3
-  target=$(python3 -c "import json
-b = next(b for b in json.load(open('city/city.json'))['buildings'] if b['id'] == 1)
-f = b['footprint']
-print('%.2f,%.2f,%.2f' % (sum(p[0] for p in f) / len(f), 0.4 * b['height'], -sum(p[1] for p in f) / len(f)))")
+  target=$(python3 "$here/aim.py" city/city.json 1)
   "$exe" -q fracture city --building 1 -o building_fracture --pieces 40
   "$exe" -q simulate building_fracture -o building_sim --frames 40 --projectile "$target" --projectile-radius 1.5
   "$exe" -q anim building_sim -o building.glb

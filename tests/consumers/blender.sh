@@ -85,10 +85,7 @@ set -e
 # piece within 1 mm and 0.1 degrees of transforms.bin (blender/anim_compare.py); a building hit by
 # a ball, whose resting pieces keep two keys a channel; and a copy with one piece's keys moved
 # 5 mm, which must be caught.
-target=$(python3 -c "import json
-b = next(b for b in json.load(open('city/city.json'))['buildings'] if b['id'] == 1)
-f = b['footprint']
-print('%.2f,%.2f,%.2f' % (sum(p[0] for p in f) / len(f), 0.4 * b['height'], -sum(p[1] for p in f) / len(f)))")
+target=$(python3 "$here/../aim.py" city/city.json 1)
 df fracture city --building 1 -o building_fracture --pieces 40 --threads 2
 df simulate building_fracture -o building_sim --frames 40 --projectile "$target" --projectile-radius 1.5 --threads 2
 df anim sim -o anim_u_prism.glb

@@ -74,6 +74,8 @@ def check_anim(report, sim_dir):
     worst_p, worst_d, where = 0.0, 0.0, ""
     for i, name in enumerate(names):
         for k, got in enumerate(r["poses"][name]):
+            if any(v is None or not math.isfinite(v) for v in got):  # NaN arrives as null
+                fail(f"{label}: {name} at frame {k} is not a number: {got}")
             want = struct.unpack_from("<7f", data, (k * n + i) * 28)
             worst_p = max(worst_p, math.dist(got[:3], want[:3]))
             # the angle between two unit quaternions, either sign: 4 atan2(|a - b|, |a + b|)

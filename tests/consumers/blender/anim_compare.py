@@ -78,6 +78,9 @@ for i, name in enumerate(names):
         diff = math.sqrt(sum((want[a][b] - r[a][b]) ** 2 for a in range(3) for b in range(3)))
         degrees = math.degrees(2 * math.asin(min(1.0, diff / (2 * math.sqrt(2)))))
         dist = math.dist(p, (px, py, pz))
+        if not (math.isfinite(dist) and math.isfinite(degrees)):  # max() and > would skip a NaN
+            print(f"FAIL {name} at frame {k}: Blender played a pose that is not a number")
+            sys.exit(1)
         if dist > worst_p:
             worst_p = dist
         if degrees > worst_d:
