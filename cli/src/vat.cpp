@@ -33,14 +33,15 @@ int runVat(const VatOptions& options) {
     exporters::writeVat(vat, settings, options.outputDir);
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const bool ldr = settings.format == exporters::VatFormat::Ldr;
     std::printf("baked %zu pieces × %d frames into %d×%d %s textures (%s preset, %d rows per frame) in %.2f s\n",
                 vat.layout.pieces, vat.layout.frames, vat.layout.width, vat.layout.height,
-                settings.half ? "RGBA16F" : "RGBA32F", std::string(exporters::vatPresetName(settings.preset)).c_str(),
-                vat.layout.rowsPerFrame, seconds);
+                ldr ? "RGBA8 (Non-HDR)" : settings.half ? "RGBA16F" : "RGBA32F",
+                std::string(exporters::vatPresetName(settings.preset)).c_str(), vat.layout.rowsPerFrame, seconds);
     std::printf("  worst error from the precision: position %.3g m, rotation %.3g rad, any vertex %.3g m\n",
                 vat.maxPositionError, vat.maxRotationError, vat.maxVertexError);
-    std::printf("  wrote %s/%s_{pos.exr,rot.exr,mesh.glb,data.json}\n", options.outputDir.string().c_str(),
-                settings.name.c_str());
+    std::printf("  wrote %s/%s_{%s,mesh.glb,data.json}\n", options.outputDir.string().c_str(), settings.name.c_str(),
+                !ldr ? "pos.exr,rot.exr" : vat.position2.empty() ? "pos.png,rot.png" : "pos.png,pos2.png,rot.png");
     return 0;
 }
 
@@ -51,7 +52,7 @@ Command addVat(CLI::App& app, CommonOptions&) {
     exporters::VatSettings& s = o->settings;
     CLI::App* cmd = app.add_subcommand(
         "vat", "Bake a simulation into vertex animation textures (SideFX Labs VAT 3.0 rigid layout): "
-               "DIR/<name>_pos.exr, _rot.exr, _mesh.glb, _data.json");
+               "DIR/<name>_pos.exr, _rot.exr (or with --format ldr _pos.png, _pos2.png, _rot.png), _mesh.glb, _data.json");
     cmd->add_option("SIM_DIR", o->simDir, "Folder written by 'dawnforge simulate'")->required();
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
     cmd->add_option_function<std::string>(
@@ -63,7 +64,19 @@ Command addVat(CLI::App& app, CommonOptions&) {
            },
            "native (metres, +Y up), unreal (Z-up centimetres) or unity")
         ->default_str(std::string(exporters::vatPresetName(s.preset)));
-    cmd->add_flag("--half", s.half, "RGBA16F textures instead of RGBA32F");
+    cmd->add_option_function<std::string>(
+           "--format",
+           [&s](const std::string& name) {
+               const auto parsed = exporters::parseVatFormat(name);
+               if (!parsed) throw InputError(format("unknown format '{}' (expected hdr or ldr)", name));
+               s.format = *parsed;
+           },
+           "hdr (OpenEXR float) or ldr (the Labs Non-HDR form: 8-bit PNGs _pos, _pos2, _rot, for mobile; unity and "
+           "unreal presets)")
+        ->default_str(std::string(exporters::vatFormatName(s.format)));
+    cmd->add_flag("--half", s.half, "hdr: RGBA16F textures instead of RGBA32F");
+    cmd->add_flag("--single-position-texture", s.singlePositionTexture,
+                  "ldr: positions in one 8-bit texture (to 1/510 of the bounds) instead of two (to 1/51,000)");
     cmd->add_option("--max-width", s.maxWidth, "Texture width limit; more pieces take several rows per frame")
         ->check(CLI::Range(1, exporters::kVatMaxTextureSize))->capture_default_str();
     cmd->add_option("--name", s.name, "File name prefix")->capture_default_str();

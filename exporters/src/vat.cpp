@@ -3,6 +3,8 @@
 // URP_VAT3 shader graphs, the HDA's presets) and shared/notes/vat3-rigid.md.
 #include <dawnforge/exporters/vat.hpp>
 
+#include "vat_codec.hpp"
+
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -25,75 +27,19 @@ namespace dawnforge::exporters {
 
 namespace {
 
+using vat_codec::Engine;
+using vat_codec::engineOf;
+using vat_codec::pack;
+using vat_codec::unpack;
+using vat_codec::orientation;
+using vat_codec::PackedRotation;
+using vat_codec::position;
+
 constexpr double kPi = 3.14159265358979323846;
 // The most rows per frame whose hundreds the Labs bound code can count (the HDA's own limit).
 constexpr int kLabsMaxRowsPerFrame = 1980;
 
-// Engine space = scale × axes × (our / Houdini space: metres, +Y up, right-handed).
-struct Engine {
-    glm::dmat3 axes{1.0};
-    double scale = 1.0;
-    double handedness = 1.0;  // det(axes)
-    // Applied to the packed triple, an axial vector: a mirror also flips its sign.
-    glm::dmat3 tripleMap() const { return handedness * axes; }
-};
-
-Engine engineOf(VatPreset preset) {
-    switch (preset) {
-        case VatPreset::Native: return {};
-        case VatPreset::Unity: return {glm::dmat3(-1, 0, 0, 0, 1, 0, 0, 0, 1), 1.0, -1.0};  // (-x, y, z)
-        case VatPreset::Unreal: return {glm::dmat3(1, 0, 0, 0, 0, 1, 0, 1, 0), 100.0, -1.0};  // 100 (x, z, y)
-    }
-    return {};
-}
-
-// Labs packing: index m of the largest-magnitude component in (w, x, y, z) order, the
-// quaternion negated so it is positive, dropped, and w written in its slot.
-struct PackedRotation {
-    glm::dvec3 triple{0.0};
-    int dropped = 0;
-    glm::dquat canonical{1.0, 0.0, 0.0, 0.0};
-};
-
-PackedRotation pack(glm::dquat q) {
-    const std::array<double, 4> c{q.w, q.x, q.y, q.z};
-    int m = 0;
-    for (int i = 1; i < 4; ++i)
-        if (std::abs(c[std::size_t(i)]) > std::abs(c[std::size_t(m)])) m = i;
-    if (c[std::size_t(m)] < 0.0) q = -q;
-    PackedRotation p;
-    p.dropped = m;
-    p.canonical = q;
-    switch (m) {
-        case 0: p.triple = {q.x, q.y, q.z}; break;
-        case 1: p.triple = {q.w, q.y, q.z}; break;
-        case 2: p.triple = {q.x, q.w, q.z}; break;
-        default: p.triple = {q.x, q.y, q.w}; break;
-    }
-    return p;
-}
-
-// The inverse of pack() in our axes (the `native` decoder, used to measure the error).
-glm::dquat unpack(const glm::dvec3& t, int dropped) {
-    const double rebuilt = std::sqrt(std::max(0.0, 1.0 - glm::dot(t, t)));
-    switch (dropped) {
-        case 0: return glm::dquat(rebuilt, t.x, t.y, t.z);
-        case 1: return glm::dquat(t.x, rebuilt, t.y, t.z);
-        case 2: return glm::dquat(t.y, t.x, rebuilt, t.z);
-        default: return glm::dquat(t.z, t.x, t.y, rebuilt);
-    }
-}
-
 float store(double v, bool half) { return half ? float(Imath::half(float(v))) : float(v); }
-
-glm::dquat orientation(std::span<const float> transforms, std::size_t index) {
-    const float* t = transforms.data() + index * 7;
-    return glm::normalize(glm::dquat(t[6], t[3], t[4], t[5]));
-}
-glm::dvec3 position(std::span<const float> transforms, std::size_t index) {
-    const float* t = transforms.data() + index * 7;
-    return {t[0], t[1], t[2]};
-}
 
 nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
@@ -304,20 +250,54 @@ struct EngineBounds {
     glm::dvec3 encodedLo{0.0}, encodedHi{0.0};
 };
 
-EngineBounds engineBounds(const Vat& vat, const Engine& engine) {
+// Houdini's (our) axes' offset `code` added to the bounds where the engine's axes put it: an
+// offset that points along an engine axis raises its max, one against it lowers its min.
+void addCode(EngineBounds& b, const Engine& engine, const glm::dvec3& code) {
+    const glm::dvec3 e = engine.axes * code;
+    for (int a = 0; a < 3; ++a) (e[a] > 0.0 ? b.encodedHi : b.encodedLo)[a] += e[a];
+}
+
+// What the Non-HDR bounds carry: the largest turns per frame (the HDA's max RPF: at least 1)
+// and the largest piece scale, for the packing cases the position alpha holds.
+struct LdrCodes {
+    double maxTurns = 1.0, maxScale = 1.0;
+    bool twoTextures = true;
+};
+
+LdrCodes ldrCodes(const Vat& vat, const VatSettings& settings) {
+    int lo = 3, hi = 0;
+    for (std::size_t i = 3; i < vat.position.size(); i += 4) {
+        const int m = int(std::lround(4.0 * vat.position[i]));
+        lo = std::min(lo, m), hi = std::max(hi, m);
+    }
+    return {std::max(1.0, vat.maxTurnsPerFrame), vat_codec::ldrMaxScale(lo, hi), !settings.singlePositionTexture};
+}
+
+EngineBounds engineBounds(const Vat& vat, const Engine& engine, VatFormat format, const LdrCodes& ldr) {
     EngineBounds b;
     const double s = engine.scale;
     for (int a = 0; a < 3; ++a) {
         b.lo[a] = snapDown(vat.boundsMin[a], s);
         b.hi[a] = snapUp(vat.boundsMax[a], s);
     }
-    // The codes go on Houdini's min y and max z, wherever the preset's axes put them (Unreal:
-    // min Z and max Y). Hundreds of rows count on in hundredths past the HDR flag's 0.5,
-    // skipping 0.60 and 0.70, as the Labs HDA writes them and its Unreal material reads them.
+    b.encodedLo = b.lo;
+    b.encodedHi = b.hi;
+    // The codes, in tenths of the 0.1 (× engine scale) cell, on Houdini's axes as the Labs HDA
+    // writes them and its materials read them. Max z: 0.5 for HDR, 0.25 for two position
+    // textures (Non-HDR only here), and hundreds of rows in hundredths stepping away from the
+    // nearest multiple of 0.25 (upwards from 0 or 0.5, downwards to 0.5 or 1.0), skipping
+    // the tenths. Min y: rows mod 100 in thousandths.
+    const bool hdr = format == VatFormat::Hdr;
     const int R = vat.layout.rowsPerFrame, hundreds = R / 100;
-    const double code = 0.5 + 0.01 * double(hundreds + (hundreds > 9) + (hundreds > 18));
-    b.encodedLo = b.lo + engine.axes * glm::dvec3(0.0, -double(R % 100) * 0.001 * s, 0.0);
-    b.encodedHi = b.hi + engine.axes * glm::dvec3(0.0, 0.0, code * 0.1 * s);
+    const double base = hdr ? 0.5 : ldr.twoTextures ? 0.25 : 0.0, steps = 0.01 * double(hundreds + (hundreds > 9) + (hundreds > 18));
+    const bool upwards = int(std::floor(base / 0.25)) % 2 == 0;
+    const double code = hundreds == 0 ? base : upwards ? base + steps : base + 0.25 - steps;
+    addCode(b, engine, glm::dvec3(0.0, -double(R % 100) * 0.001 * s, 0.0));
+    addCode(b, engine, glm::dvec3(0.0, 0.0, code * 0.1 * s));
+    if (!hdr) {  // max x: the largest turns per frame; max y: the largest piece scale
+        addCode(b, engine, glm::dvec3((1.0 - 1.0 / ldr.maxTurns) * 0.1 * s, 0.0, 0.0));
+        addCode(b, engine, glm::dvec3(0.0, (1.0 - 1.0 / ldr.maxScale) * 0.1 * s, 0.0));
+    }
     return b;
 }
 
@@ -360,10 +340,34 @@ void appendDataTriangles(Mesh& out, const EngineBounds& bounds, const Engine& en
     appendMesh(out, data, glm::mat4(1.0f));
 }
 
+// The file names and import settings in _data.json.
+nlohmann::ordered_json textureJson(const VatSettings& settings) {
+    if (settings.format == VatFormat::Ldr) {
+        const bool two = !settings.singlePositionTexture;
+        nlohmann::ordered_json t = {{"position", settings.name + "_pos.png"}};
+        if (two) t["position2"] = settings.name + "_pos2.png";
+        t["rotation"] = settings.name + "_rot.png";
+        t["channels"] = "RGBA";
+        t["type"] = "8-bit unsigned normalised";
+        t["compression"] = "PNG (lossless)";
+        t["import"] = std::string("nearest filtering, no mips, sRGB off, alpha not transparency, no compression (Unity "
+                                  "RGBA32, Unreal VectorDisplacementmap), no NPOT scaling; ") +
+                      (two ? "turn on" : "leave off") + " 'Positions Require Two Textures'";
+        return t;
+    }
+    return {{"position", settings.name + "_pos.exr"},
+            {"rotation", settings.name + "_rot.exr"},
+            {"channels", "RGBA"},
+            {"type", settings.half ? "half" : "float"},
+            {"compression", "PIZ"},
+            {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
+}
+
 // <name>_data.json: the layout, conventions and measured errors an importer needs.
 std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSettings& settings,
-                     const EngineBounds& bounds, const Engine& engine) {
+                     const EngineBounds& bounds, const LdrCodes& codes) {
     const VatLayout& L = vat.layout;
+    const bool ldr = settings.format == VatFormat::Ldr;
     nlohmann::ordered_json j;
     j["format"] = "dawnforge.vat";
     j["version"] = 1;
@@ -376,7 +380,8 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
     j["W"] = L.width;
     j["R"] = L.rowsPerFrame;
     j["height"] = L.height;
-    j["precision"] = settings.half ? "half" : "float32";
+    j["texture_format"] = std::string(vatFormatName(settings.format));
+    j["precision"] = ldr ? "8-bit" : settings.half ? "half" : "float32";
     j["units"] = settings.preset == VatPreset::Unreal ? "centimetres" : "metres";
     j["axes"] = settings.preset == VatPreset::Native  ? "+Y up, right-handed (glTF)"
                 : settings.preset == VatPreset::Unity ? "Unity: x mirrored (-x, y, z)"
@@ -388,12 +393,16 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
     j["max_rotation_error"] = vat.maxRotationError;
     j["max_pivot_error"] = vat.maxPivotError;
     j["max_vertex_error"] = vat.maxVertexError;
-    j["textures"] = {{"position", settings.name + "_pos.exr"},
-                     {"rotation", settings.name + "_rot.exr"},
-                     {"channels", "RGBA"},
-                     {"type", settings.half ? "half" : "float"},
-                     {"compression", "PIZ"},
-                     {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
+    if (ldr) {
+        j["max_scale_error"] = vat.maxScaleError;
+        j["ldr"] = {{"max_turns_per_frame", codes.maxTurns},
+                    {"max_piece_scale", codes.maxScale},
+                    {"position", std::string(codes.twoTextures ? "(pos.rgb + 0.01 × pos2.rgb)" : "pos.rgb") +
+                                     " × (encoded max − encoded min) + encoded min"},
+                    {"rotation", "(rot.rgb − 0.5) × 2; turns = (rot.a − 0.5) × 2 × max_turns_per_frame"},
+                    {"position_alpha", "floor(4a): the dropped component; (1 − frac(4a)) × max_piece_scale: the piece's scale"}};
+    }
+    j["textures"] = textureJson(settings);
     j["mesh"] = {{"file", settings.name + "_mesh.glb"},
                  {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
                  {"pivot", usesVeryHighPivots(settings)
@@ -404,14 +413,16 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
                                      (settings.preset == VatPreset::Unreal ? "; turn on 'Use Full Precision UVs' in Unreal" : "")},
                  {"data_triangles", settings.preset != VatPreset::Native ? 2 : 0}};
     if (settings.preset == VatPreset::Unity) {
-        // The Labs Unity material reads these properties (not the mesh bounds); in Unity axes.
-        const glm::dvec3& lo = bounds.lo;
-        const glm::dvec3& hi = bounds.hi;
+        // The Labs Unity material reads these properties (not the mesh bounds): the encoded
+        // bounds in Unity axes, as the HDA writes them into the .mat.
+        const glm::dvec3& lo = bounds.encodedLo;
+        const glm::dvec3& hi = bounds.encodedHi;
         j["unity_material"] = {{"_B_autoPlayback", 1}, {"_frameCount", L.frames}, {"_playbackSpeed", 1.0},
                                {"_houdiniFPS", animation.fps},   {"_B_interpolate", 1},
+                               {"_B_pscaleAreInPosA", 1},        {"_B_LOAD_POS_TWO_TEX", ldr && codes.twoTextures ? 1 : 0},
                                {"_boundMinX", lo.x},             {"_boundMinY", lo.y},
                                {"_boundMinZ", lo.z},             {"_boundMaxX", hi.x},
-                               {"_boundMaxY", hi.y},             {"_boundMaxZ", hi.z + 0.05 * engine.scale}};
+                               {"_boundMaxY", hi.y},             {"_boundMaxZ", hi.z}};
     }
     return j.dump(1) + "\n";
 }
@@ -424,6 +435,14 @@ std::optional<VatPreset> parseVatPreset(std::string_view name) {
     if (name == "unity") return VatPreset::Unity;
     return std::nullopt;
 }
+
+std::optional<VatFormat> parseVatFormat(std::string_view name) {
+    if (name == "hdr") return VatFormat::Hdr;
+    if (name == "ldr") return VatFormat::Ldr;
+    return std::nullopt;
+}
+
+std::string_view vatFormatName(VatFormat format) { return format == VatFormat::Ldr ? "ldr" : "hdr"; }
 
 std::string_view vatPresetName(VatPreset preset) {
     switch (preset) {
@@ -465,6 +484,13 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     if (settings.fullPrecisionUvs && settings.preset != VatPreset::Unreal)
         throw InputError(format("--full-precision-uvs is for the unreal preset (the {} preset's pivots are exact already)",
                                 vatPresetName(settings.preset)));
+    const bool ldr = settings.format == VatFormat::Ldr;
+    if (ldr && settings.half) throw InputError("--half is for the hdr format (ldr textures are 8-bit)");
+    if (!ldr && settings.singlePositionTexture)
+        throw InputError("--single-position-texture is for the ldr format (hdr positions are in one texture)");
+    if (ldr && settings.preset == VatPreset::Native)
+        throw InputError("the ldr format is for the unity and unreal presets (the Labs shaders); the native preset is what "
+                         "the dawnforge runtime plays, in hdr");
     if (settings.preset != VatPreset::Native && vat.layout.rowsPerFrame > kLabsMaxRowsPerFrame)
         throw InputError(format("{} rows per frame: the Labs bounds carry at most {} (a larger --max-width)",
                                 vat.layout.rowsPerFrame, kLabsMaxRowsPerFrame));
@@ -477,27 +503,53 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::vector<double> radius = pieceRadii(animation.pieces);
     for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
+    const LdrCodes codes = ldr ? ldrCodes(vat, settings) : LdrCodes{};
+    const EngineBounds bounds = engineBounds(vat, engine, settings.format, codes);
+    if (ldr)
+        vat_codec::quantizeLdr(vat, animation, engine,
+                               {bounds.encodedLo, bounds.encodedHi, codes.maxTurns, codes.maxScale, codes.twoTextures},
+                               radius);
+
     // A pivot the UVs carry a little off moves every vertex of its piece by as much.
     vat.maxPivotError = appendPieceMeshes(vat.mesh, animation, vat.layout, usesVeryHighPivots(settings));
     vat.maxVertexError += vat.maxPivotError;
     vat.mesh.name = settings.name;
-    const EngineBounds bounds = engineBounds(vat, engine);
     if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);
-    vat.dataJson = dataJson(vat, animation, settings, bounds, engine);
+    vat.dataJson = dataJson(vat, animation, settings, bounds, codes);
     return vat;
 }
 
+namespace {
+
+Image ldrImage(std::span<const float> unorm, const VatLayout& layout) {
+    Image image;
+    image.width = layout.width;
+    image.height = layout.height;
+    image.rgba.resize(unorm.size());
+    for (std::size_t i = 0; i < unorm.size(); ++i)
+        image.rgba[i] = std::uint8_t(std::clamp(std::lround(double(unorm[i]) * 255.0), 0L, 255L));
+    return image;
+}
+
+}  // namespace
+
 void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir) {
     ensureOutputDirectory(dir);
-    const std::vector<std::byte> pos = encodeExr(vat.position, vat.layout.width, vat.layout.height, settings.half);
-    const std::vector<std::byte> rot = encodeExr(vat.rotation, vat.layout.width, vat.layout.height, settings.half);
+    std::vector<std::pair<std::string, std::vector<std::byte>>> textures;
+    if (settings.format == VatFormat::Ldr) {
+        textures.emplace_back("_pos.png", encodePng(ldrImage(vat.position, vat.layout)));
+        if (!vat.position2.empty()) textures.emplace_back("_pos2.png", encodePng(ldrImage(vat.position2, vat.layout)));
+        textures.emplace_back("_rot.png", encodePng(ldrImage(vat.rotation, vat.layout)));
+    } else {
+        textures.emplace_back("_pos.exr", encodeExr(vat.position, vat.layout.width, vat.layout.height, settings.half));
+        textures.emplace_back("_rot.exr", encodeExr(vat.rotation, vat.layout.width, vat.layout.height, settings.half));
+    }
     Scene scene;
     scene.addMeshNode(vat.mesh);
     scene.nodes[0].name = settings.name;
     scene.extrasJson = format(R"({{"generator":"dawnforge vat","preset":"{}"}})", vatPresetName(settings.preset));
     const std::vector<std::byte> glb = encodeGlb(scene);
-    writeFileAtomically(dir / (settings.name + "_pos.exr"), pos);
-    writeFileAtomically(dir / (settings.name + "_rot.exr"), rot);
+    for (const auto& [suffix, bytes] : textures) writeFileAtomically(dir / (settings.name + suffix), bytes);
     writeFileAtomically(dir / (settings.name + "_mesh.glb"), glb);
     writeFileAtomically(dir / (settings.name + "_data.json"), std::string_view(vat.dataJson));
 }

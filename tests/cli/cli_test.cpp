@@ -151,7 +151,8 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
           {"--impact-time", shown(s.impactTime)}, {"--damage-transmission", shown(s.damageTransmission)},
           {"--damage-hops", shown(s.damageHops)}, {"--damage-half-life", shown(s.damageHalfLife)}, {"--threads", "0"}}},
         {"vat",
-         {{"--preset", std::string(exporters::vatPresetName(v.preset))}, {"--max-width", shown(v.maxWidth)},
+         {{"--preset", std::string(exporters::vatPresetName(v.preset))},
+          {"--format", std::string(exporters::vatFormatName(v.format))}, {"--max-width", shown(v.maxWidth)},
           {"--name", v.name}}},
         {"anim",
          {{"--position-tolerance", shown(a.positionTolerance)},
@@ -622,6 +623,22 @@ TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
     const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "half" / "vat_data.json"));
     EXPECT_EQ(j["precision"], "half");
     EXPECT_GT(j["max_vertex_error"].get<double>(), 0.0);
+    for (const char* preset : {"unreal", "unity"}) {
+        const RunResult ldr = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "ldr").string(), "--preset",
+                                                  preset, "--name", preset, "--format", "ldr"});
+        ASSERT_EQ(ldr.exitCode, 0) << ldr.err;
+        EXPECT_TRUE(test::contains(ldr.out, "RGBA8 (Non-HDR)")) << ldr.out;
+        const nlohmann::json l = nlohmann::json::parse(test::readText(dir / "ldr" / (std::string(preset) + "_data.json")));
+        EXPECT_EQ(l["texture_format"], "ldr");
+        EXPECT_EQ(l["precision"], "8-bit");
+        EXPECT_GT(l["max_rotation_error"].get<double>(), 0.0);
+        for (const char* suffix : {"_pos.png", "_pos2.png", "_rot.png"})
+            EXPECT_TRUE(std::filesystem::is_regular_file(dir / "ldr" / (std::string(preset) + suffix))) << suffix;
+        test::expectValidGltf(dir / "ldr" / (std::string(preset) + "_mesh.glb"));
+    }
+    std::size_t written = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir / "ldr")) written += entry.path().extension() != ".tmp";
+    EXPECT_EQ(written, 10u) << "five files per preset (three PNGs, the mesh, the data), no EXR, nothing left over";
 }
 
 TEST(CliVat, BadInputExits2AndWritesNothing) {
@@ -633,6 +650,9 @@ TEST(CliVat, BadInputExits2AndWritesNothing) {
     expectBadInput({"vat", sim, "-o", out, "--max-width", "0"}, "--max-width");
     expectBadInput({"vat", sim, "-o", out, "--preset", "blender"}, "blender");
     expectBadInput({"vat", sim, "-o", out, "--preset", "unity", "--full-precision-uvs"}, "for the unreal preset");
+    expectBadInput({"vat", sim, "-o", out, "--format", "png"}, "expected hdr or ldr");
+    expectBadInput({"vat", sim, "-o", out, "--format", "ldr"}, "unity and unreal presets");
+    expectBadInput({"vat", sim, "-o", out, "--format", "ldr", "--preset", "unity", "--half"}, "--half is for the hdr");
     expectBadInput({"vat", (dir / "fracture").string(), "-o", out}, "sim.json");
     // A simulation that does not match its mesh: transforms.bin cut short.
     auto bytes = test::readBytes(dir / "sim" / "transforms.bin");

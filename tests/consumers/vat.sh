@@ -3,9 +3,11 @@
 # decoders of Unity and of Unreal written in GLSL ES (browser/vat.mjs), and every decoded vertex,
 # at whole frames and between two (the Labs interframe slerp), must land where transforms.bin and
 # turns.bin put it: within 1 mm for float32 textures, within the
-# max_vertex_error that _data.json declares for half floats and for Unreal's default pivots far
-# from the origin. Then the same check on files broken on purpose (pivot UV sets swapped,
-# lookup V from the bottom, Y and Z swapped, the rotation alpha's sign flipped) must fail.
+# max_vertex_error that _data.json declares for half floats, for the Labs Non-HDR form (8-bit PNGs,
+# with and without the second position texture) and for Unreal's default pivots far from the
+# origin. Then the same check on files broken on purpose (pivot UV sets swapped, lookup V from
+# the bottom, Y and Z swapped, the rotation alpha's sign flipped, a Non-HDR VAT without its
+# second position texture) must fail.
 #
 # usage: vat.sh DAWNFORGE_EXE WORK_DIR      (exit 77: the browser is not installed)
 set -euo pipefail
@@ -27,6 +29,8 @@ enter_work "$work"
   for preset in unity unreal; do
     "$exe" -q vat sim -o vat --preset "$preset" --name "$preset" --max-width 7
     "$exe" -q vat sim -o vat --preset "$preset" --name "${preset}_half" --half --max-width 7
+    "$exe" -q vat sim -o vat --preset "$preset" --name "${preset}_ldr" --format ldr --max-width 7
+    "$exe" -q vat sim -o vat --preset "$preset" --name "${preset}_ldr1" --format ldr --single-position-texture --max-width 7
   done
 
   # A building of a generated city hit by a ball, as the demo's destruction: 880 pieces some
@@ -39,6 +43,8 @@ enter_work "$work"
   "$exe" -q vat building_sim -o vat --preset unity --name building_unity
   "$exe" -q vat building_sim -o vat --preset unreal --name building_unreal
   "$exe" -q vat building_sim -o vat --preset unreal --name building_unreal_full --full-precision-uvs
+  "$exe" -q vat building_sim -o vat --preset unity --name building_unity_ldr --format ldr
+  "$exe" -q vat building_sim -o vat --preset unreal --name building_unreal_ldr --format ldr
 } >inputs.log
 
 frames=0,1,4.5,9,16.25,22.5
@@ -54,6 +60,10 @@ for preset in unity unreal; do
   python3 "$here/check.py" vat "$preset.json" 0.001
   play "${preset}_half.json" "${preset}_half" "$preset"
   python3 "$here/check.py" vat "${preset}_half.json" "$(declared "vat/${preset}_half_data.json")"
+  for form in ldr ldr1; do
+    play "${preset}_$form.json" "${preset}_$form" "$preset"
+    python3 "$here/check.py" vat "${preset}_$form.json" "$(declared "vat/${preset}_${form}_data.json")"
+  done
 done
 
 sim=building_sim frames=0,8,20.5,39
@@ -63,6 +73,10 @@ play building_unreal.json building_unreal unreal
 python3 "$here/check.py" vat building_unreal.json "$(declared vat/building_unreal_data.json)"
 play building_unreal_full.json building_unreal_full unreal
 python3 "$here/check.py" vat building_unreal_full.json 0.001
+for preset in unity unreal; do
+  play "building_${preset}_ldr.json" "building_${preset}_ldr" "$preset"
+  python3 "$here/check.py" vat "building_${preset}_ldr.json" "$(declared "vat/building_${preset}_ldr_data.json")"
+done
 unset sim
 frames=0,1,4.5,9,16.25,22.5
 
@@ -76,4 +90,13 @@ for mutation in swap-pivot-uvs lookup-v-from-bottom swap-y-z rotation-alpha-nega
     fi
     echo "ok: $preset with $mutation is refused: $(cut -c1-160 broken.txt)"
   done
+done
+# Non-HDR without its second texture: the 8-bit positions alone are 1/510 of the bounds off.
+for preset in unity unreal; do
+  play "broken.json" "${preset}_ldr" "$preset" no-second-position-texture
+  if python3 "$here/check.py" vat broken.json "$(declared "vat/${preset}_ldr_data.json")" >broken.txt; then
+    echo "FAILED: the $preset decoder did not notice a Non-HDR VAT played without its second position texture"
+    exit 1
+  fi
+  echo "ok: ${preset}_ldr without _pos2 is refused: $(cut -c1-160 broken.txt)"
 done

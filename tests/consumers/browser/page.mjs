@@ -35,3 +35,18 @@ export function onlyMesh(gltf, url) {
   if (meshes.length !== 1) throw new Error(`${url}: ${meshes.length} meshes, expected 1`);
   return meshes[0].geometry.index ? meshes[0].geometry.toNonIndexed() : meshes[0].geometry;
 }
+
+// An 8-bit PNG as the Labs Non-HDR import settings want it (sRGB off, alpha not transparency,
+// no compression): the browser's own decoder, without premultiplying or colour conversion,
+// its first row at V = 1 like the EXRs above.
+export async function loadPng(url) {
+  const response = await fetch(url);
+  if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+  const bitmap = await createImageBitmap(await response.blob(),
+    { premultiplyAlpha: 'none', colorSpaceConversion: 'none', imageOrientation: 'flipY' });
+  const texture = new THREE.Texture(bitmap);
+  texture.flipY = false;
+  texture.premultiplyAlpha = false;
+  return nearest(texture);
+}
+

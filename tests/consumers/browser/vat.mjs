@@ -4,10 +4,11 @@
 //
 // Query: vat=FOLDER (under /data/) name=PREFIX decoder=unity|unreal frames=K,K,...
 //        sim=FOLDER (under /data/, holding transforms.bin) [mutate=swap-pivot-uvs|lookup-v-from-bottom|swap-y-z|
-//        rotation-alpha-negated]
+//        rotation-alpha-negated|no-second-position-texture]
 //
 // three's GLTFLoader reads <name>_mesh.glb and its EXRLoader <name>_pos.exr and _rot.exr (as
-// 32-bit floats). The mesh then goes through what the engine's glTF importer does to it
+// 32-bit floats), or the browser's PNG decoder the Non-HDR form's <name>_pos.png, _pos2.png and
+// _rot.png (8-bit). The mesh then goes through what the engine's glTF importer does to it
 // (importMesh), and a RawShaderMaterial runs the engine's Labs decoder (DECODERS) on every
 // vertex, one point per vertex, writing the decoded position into a float render target that
 // is read back. The reference is transforms.bin applied to the rest pose, here in JavaScript:
@@ -18,7 +19,7 @@
 
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { loadExr, onlyMesh, param } from './page.mjs';
+import { loadExr, loadPng, onlyMesh, param } from './page.mjs';
 import { runPerVertex } from './per-vertex.mjs';
 
 async function fetchBytes(url) {
@@ -56,15 +57,26 @@ function importMesh(geometry, engine) {
 
 const COMMON = /* glsl */ `
 uniform sampler2D posTex;
+uniform sampler2D pos2Tex;     // Non-HDR: the positions' hundredths ("Positions Require Two Textures")
 uniform sampler2D rotTex;
+uniform bool twoTextures;      // the material's static switch of that name
 uniform float frame;          // the frame shown, from 0; between two frames, both are blended
 uniform vec3 boundMin;        // the mesh's bounds as the engine computes them (data triangles included)
 uniform vec3 boundMax;
 uniform float frameCount;     // Unity: the material's _frameCount
+uniform vec3 unityBoundMin;   // Unity: the material's _boundMin* and _boundMax*
+uniform vec3 unityBoundMax;
 in vec3 enginePos;
 in vec2 engineUv1;
 in vec2 engineUv2;
 in vec2 engineUv3;
+
+// Both decoders' Non-HDR position: the texture's fraction of the bounds' box, with the second
+// texture's hundredths when the switch is on.
+vec3 positionLdr(vec2 uv, vec3 p, vec3 lo, vec3 hi) {
+  vec3 unit = twoTextures ? p + texture(pos2Tex, uv).rgb * 0.01 : p;
+  return unit * (hi - lo) + lo;
+}
 
 vec3 rotateByQuat(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
 
@@ -87,7 +99,9 @@ Frame blend(Frame a, Frame b, float t) {
 
 // Unity, the URP_VAT3 rigid-body graph: texture V from the bottom (Unity's convention, and
 // three's for an EXR: its loader puts the file's first row at the top); _B_interpolate on, as
-// dawnforge's _data.json sets it.
+// dawnforge's _data.json sets it. HDR when frac(10 _boundMaxZ) >= 0.5; else the Non-HDR
+// texels: rotation (rot - 0.5) * 2, its alpha times the largest turns per frame
+// 1 / (1 - frac(-10 _boundMinX)), positions through the material's bounds.
 const UNITY = /* glsl */ `
 vec4 quatUnity(vec3 s, float m) {
   float w = sqrt(max(0.0, 1.0 - dot(s, s)));
@@ -100,9 +114,13 @@ Frame unityFrame(float k) {
   vec2 uv = vec2(engineUv1.x, 1.0 - ((1.0 - engineUv1.y) + k / frameCount));
   vec4 p = texture(posTex, uv);
   vec4 r = texture(rotTex, uv);
+  bool hdr = fract(10.0 * unityBoundMax.z) >= 0.5;
+  vec3 position = hdr ? p.rgb : positionLdr(uv, p.rgb, unityBoundMin, unityBoundMax);
+  if (!hdr) r = (r - 0.5) * 2.0;
+  float turns = hdr ? r.a : r.a / (1.0 - fract(-10.0 * unityBoundMin.x));
   float m = floor(4.0 * p.a);
-  float pscale = 1.0 - (p.a - 0.25 * m) / 0.2495;  // max pscale 1: dawnforge's bounds carry no pscale code
-  return Frame(p.rgb, quatUnity(r.rgb, m), pscale, r.a);
+  float pscale = (1.0 - fract(4.0 * p.a)) / (1.0 - fract(10.0 * unityBoundMax.y));  // "Piece Scales Are in Position Alpha"
+  return Frame(position, quatUnity(r.rgb, m), pscale, turns);
 }
 vec3 decode() {
   if (engineUv1.y <= 0.1) return vec3(0.0);  // the data triangles
@@ -145,8 +163,9 @@ vec4 quatUnreal(vec3 s, float m) {
   if (m < 2.5) return vec4(s.x, s.y, -w, -s.z);
   return vec4(s.x, -w, s.z, -s.y);
 }
-// What the bounds carry: x frames, y the HDR flag, z the largest pscale; the active area.
-struct Codes { float frames; bool hdr; float maxPscale; vec2 ratio; };
+// What the bounds carry: x frames and the largest turns per frame, y the HDR flag, z the
+// largest pscale; the active area.
+struct Codes { float frames; bool hdr; float maxPscale; float maxTurns; vec2 ratio; };
 Codes boundCodes() {
   vec3 bmax = round(boundMax / 1e-4) * 1e-4 * 0.1, bmin = round(boundMin / 1e-4) * 1e-4 * 0.1;
   float code = fract(bmax.y);
@@ -159,20 +178,24 @@ Codes boundCodes() {
   float rows = round(100.0 * (ceil(bmin.z) - bmin.z)) + 100.0 * hundreds;
   vec2 ratio = vec2(1.0 - (ceil(bmin.y) - bmin.y), 1.0 - (ceil(bmin.x) - bmin.x));
   float frames = round(float(textureSize(posTex, 0).y) * ratio.y) / rows;
-  return Codes(frames, code >= 0.5, 1.0 / (1.0 - fract(bmax.z)), ratio);
+  return Codes(frames, code >= 0.5, 1.0 / (1.0 - fract(bmax.z)), 1.0 / (1.0 - fract(bmax.x)), ratio);
 }
+// Non-HDR: "Position Texture RGB transformed by the object local bounds", the rotation
+// (rot - 0.5) * 2, "the A channel stores the normalized RPFs" (times the max RPF).
 Frame unrealFrame(float displayFrame, Codes codes) {
   float k = mod(floor(displayFrame) - 1.0, codes.frames);
   vec2 uv = vec2(engineUv1.x, engineUv1.y + k / codes.frames) * codes.ratio;
-  vec4 p = texture(posTex, vec2(uv.x, 1.0 - uv.y));
-  vec4 r = texture(rotTex, vec2(uv.x, 1.0 - uv.y));
+  vec2 at = vec2(uv.x, 1.0 - uv.y);
+  vec4 p = texture(posTex, at);
+  vec4 r = texture(rotTex, at);
+  vec3 position = codes.hdr ? p.rgb : positionLdr(at, p.rgb, boundMin, boundMax);
+  if (!codes.hdr) r = (r - 0.5) * 2.0;
   float m = floor(4.0 * p.a);
-  return Frame(p.rgb, quatUnreal(r.rgb, m), (1.0 - fract(4.0 * p.a)) * codes.maxPscale, r.a);
+  return Frame(position, quatUnreal(r.rgb, m), (1.0 - fract(4.0 * p.a)) * codes.maxPscale, r.a * codes.maxTurns);
 }
 vec3 decode() {
   if (engineUv1.y >= 0.9) return vec3(0.0);  // the data triangles
   Codes codes = boundCodes();
-  if (!codes.hdr) return vec3(-1e9);  // dawnforge writes only HDR: a bound without the flag is broken
   float displayFrame = frame + 1.0, k = floor(displayFrame);
   Frame f = unrealFrame(k, codes);
   if (displayFrame > k) f = blend(f, unrealFrame(k + 1.0, codes), displayFrame - k);
@@ -200,10 +223,14 @@ function decodeOnGpu(engine, mesh, textures, meta, frames) {
   const bounds = boundsOf(mesh.pos);
   const attributes = { enginePos: new THREE.BufferAttribute(mesh.pos, 3) };
   for (const k of ['1', '2', '3']) attributes[`engineUv${k}`] = new THREE.BufferAttribute(mesh[`uv${k}`], 2);
+  const unity = meta.unity_material ?? {};
   const uniforms = {
-    posTex: { value: textures.pos }, rotTex: { value: textures.rot }, frame: { value: 0 },
+    posTex: { value: textures.pos }, pos2Tex: { value: textures.pos2 ?? textures.pos }, rotTex: { value: textures.rot },
+    twoTextures: { value: Boolean(textures.pos2) }, frame: { value: 0 },
     boundMin: { value: new THREE.Vector3(...bounds.min) }, boundMax: { value: new THREE.Vector3(...bounds.max) },
-    frameCount: { value: meta.unity_material?._frameCount ?? 0 },
+    frameCount: { value: unity._frameCount ?? 0 },
+    unityBoundMin: { value: new THREE.Vector3(unity._boundMinX, unity._boundMinY, unity._boundMinZ) },
+    unityBoundMax: { value: new THREE.Vector3(unity._boundMaxX, unity._boundMaxY, unity._boundMaxZ) },
   };
   return runPerVertex(mesh.n, attributes, COMMON + DECODERS[engine] + VERTEX_MAIN, uniforms,
     frames.map((k) => (u) => { u.frame.value = k; }));
@@ -283,11 +310,15 @@ function compare(engine, pieceIds, rest, decoded, sim, meta, frames) {
   return { perFrame, dataVertices, dataOffOrigin };
 }
 
-// mutate=...: the mesh as a broken writer would have written it, to prove that the check sees it.
-function breakFile(mutation, geometry, rotation) {
+// mutate=...: the files as a broken writer would have written them, to prove that the check sees it.
+function breakFile(mutation, geometry, textures) {
   if (mutation === null) return;
-  const a = geometry.attributes;
+  const a = geometry.attributes, rotation = textures.rot;
   if (mutation === 'swap-pivot-uvs') [a.uv2, a.uv3] = [a.uv3, a.uv2];
+  else if (mutation === 'no-second-position-texture') {
+    if (!textures.pos2) throw new Error('vat.mjs: no-second-position-texture needs a Non-HDR VAT');
+    delete textures.pos2;
+  }
   else if (mutation === 'rotation-alpha-negated') {
     for (let i = 3; i < rotation.image.data.length; i += 4) rotation.image.data[i] = -rotation.image.data[i];
     rotation.needsUpdate = true;
@@ -304,12 +335,16 @@ async function run() {
   const base = `/data/${vatDir}/${name}`;
   const meta = await (await fetch(`${base}_data.json`)).json();
   const frames = param('frames').split(',').map(Number);
-  const [geometry, pos, rot, transforms, turns] = await Promise.all([loadMesh(`${base}_mesh.glb`), loadExr(`${base}_pos.exr`),
-    loadExr(`${base}_rot.exr`), fetchBytes(`/data/${simDir}/transforms.bin`), fetchBytes(`/data/${simDir}/turns.bin`)]);
+  const ldr = meta.texture_format === 'ldr';
+  const load = (file) => (ldr ? loadPng : loadExr)(`/data/${vatDir}/${file}`);
+  const [geometry, pos, rot, pos2, transforms, turns] = await Promise.all([loadMesh(`${base}_mesh.glb`),
+    load(meta.textures.position), load(meta.textures.rotation), meta.textures.position2 ? load(meta.textures.position2) : null,
+    fetchBytes(`/data/${simDir}/transforms.bin`), fetchBytes(`/data/${simDir}/turns.bin`)]);
   const rest = geometry.attributes.position.array.slice();
-  breakFile(param('mutate', { optional: true }), geometry, rot);
+  const textures = { pos, rot, ...(pos2 ? { pos2 } : {}) };
+  breakFile(param('mutate', { optional: true }), geometry, textures);
   const mesh = importMesh(geometry, engine);
-  const decoded = decodeOnGpu(engine, mesh, { pos, rot }, meta, frames);
+  const decoded = decodeOnGpu(engine, mesh, textures, meta, frames);
   const result = compare(engine, geometry.attributes._piece_id.array, rest, decoded, new Simulation(transforms, turns, meta.pieces),
     meta, frames);
   return { engine, name, preset: meta.preset, precision: meta.precision, vertices: mesh.n, pieces: meta.pieces,

@@ -9,6 +9,9 @@
 //   w in its slot, in engine axes; signed turns to the next frame).
 //   The mesh (glTF axes, metres) carries the lookup UV (texel centre) in TEXCOORD_1 and the
 //   pivot (Houdini axes, engine units) in TEXCOORD_2/3, V flipped to glTF's top-left origin.
+//   Non-HDR (VatFormat::Ldr, the Labs "Non-HDR" form, RGBA 8 in the engine): positions are
+//   (pos.rgb + 0.01 × pos2.rgb) of the encoded bounds' box (a second texture for precision),
+//   rotations (rot − 0.5) × 2, the turns over the largest turns per frame the bounds carry.
 #include <dawnforge/core/mesh.hpp>
 
 #include <cstddef>
@@ -29,9 +32,18 @@ enum class VatPreset {
 std::optional<VatPreset> parseVatPreset(std::string_view name);
 std::string_view vatPresetName(VatPreset preset);
 
+enum class VatFormat {
+    Hdr,  // OpenEXR, RGBA float (or half)
+    Ldr,  // the Labs Non-HDR form: three 8-bit RGBA PNGs (pos, pos2, rot), for the engine presets
+};
+std::optional<VatFormat> parseVatFormat(std::string_view name);
+std::string_view vatFormatName(VatFormat format);
+
 struct VatSettings {
     VatPreset preset = VatPreset::Native;
-    bool half = false;      // RGBA16F instead of RGBA32F
+    VatFormat format = VatFormat::Hdr;
+    bool half = false;      // HDR: RGBA16F instead of RGBA32F
+    bool singlePositionTexture = false;  // Ldr: no _pos2 (positions to 1/510 of the bounds)
     int maxWidth = 1024;    // texture width limit (1 to 8192)
     std::string name = "vat";
     // Unreal: the pivots unencoded in 32-bit UVs (exact; the mesh needs Unreal's "Use Full
@@ -68,8 +80,9 @@ struct VatAnimation {
 
 struct Vat {
     VatLayout layout;
-    std::vector<float> position;  // RGBA per texel, row 0 at the top; rounded to half if settings.half
-    std::vector<float> rotation;
+    std::vector<float> position;  // RGBA per texel, row 0 at the top; rounded to half if settings.half,
+    std::vector<float> rotation;  // to k / 255 for Ldr
+    std::vector<float> position2; // Ldr: the positions' hundredths; empty for Hdr
     Mesh mesh;                    // rest pose with the lookup and pivot channels (+ 2 data triangles for engines)
     glm::dvec3 boundsMin{0.0}, boundsMax{0.0};  // of every vertex over the animation, engine axes and units
     double maxTurnsPerFrame = 0.0;
@@ -77,6 +90,7 @@ struct Vat {
     double maxPositionError = 0.0;  // m, pivot positions
     double maxRotationError = 0.0;  // rad, orientations
     double maxPivotError = 0.0;     // m, how far the pivot UVs move a pivot (Unreal's Very High form)
+    double maxScaleError = 0.0;     // Ldr: |decoded piece scale − 1| (8-bit position alpha)
     double maxVertexError = 0.0;    // m, bound on any vertex (position + rotation × piece radius)
     std::string dataJson;           // <name>_data.json
 };
@@ -86,7 +100,8 @@ struct Vat {
 Vat encodeVat(const VatAnimation& animation, const VatSettings& settings);
 
 // Writes DIR/<name>_pos.exr, <name>_rot.exr (OpenEXR, PIZ, RGBA float or half, row 0 at the
-// top), <name>_mesh.glb and <name>_data.json, each atomically.
+// top; Ldr: <name>_pos.png, _pos2.png, _rot.png, 8-bit RGBA), <name>_mesh.glb and
+// <name>_data.json, each atomically.
 void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir);
 
 }  // namespace dawnforge::exporters
