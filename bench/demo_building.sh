@@ -18,22 +18,7 @@ echo '{"coast": {"water": 0.3}}' >"$work/demo.json"
 "$dawnforge" --quiet city -o "$work/large" --size 400x400 >/dev/null
 
 # impact FRACTURE_DIR: the demo's impact point from the pieces' bounds in fragments.glb
-impact() {
-  python3 - "$1/fragments.glb" <<'PY'
-import json, struct, sys
-data = open(sys.argv[1], "rb").read()
-length, = struct.unpack_from("<I", data, 12)
-gltf = json.loads(data[20:20 + length])
-lo, hi = [1e30] * 3, [-1e30] * 3
-for node in gltf["nodes"]:
-    if "mesh" not in node: continue
-    t = node.get("translation", [0, 0, 0])
-    acc = gltf["accessors"][gltf["meshes"][node["mesh"]]["primitives"][0]["attributes"]["POSITION"]]
-    lo = [min(a, b + c) for a, b, c in zip(lo, acc["min"], t)]
-    hi = [max(a, b + c) for a, b, c in zip(hi, acc["max"], t)]
-print(f"{(lo[0] + hi[0]) / 2},{lo[1] + 0.45 * (hi[1] - lo[1])},{hi[2]}")
-PY
-}
+impact() { python3 "$(dirname "$0")/demo_impact.py" "$1"; }
 
 printf '%-22s %7s %13s %7s %8s %8s\n' building pieces broken bodies seconds peak_MB
 for case in "demo 14" "large 2" "large 50"; do
