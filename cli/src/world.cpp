@@ -1,5 +1,6 @@
 // dawnforge world plan | build | job: a world built tile by tile (ARCHITECTURE.md, section 9).
 #include "commands.hpp"
+#include "options.hpp"
 #include "world_report.hpp"
 
 #include <dawnforge/core/atomic_file.hpp>
@@ -136,6 +137,15 @@ void addPlanOptions(CLI::App& cmd, WorldOptions& o) {
            "--size", [&s](const std::string& text) { s.size = parseSize(text, "--size", "metres"); }, "World size WxD in metres")
         ->default_str(sizeText(s.size));
     cmd.add_option("--tile-size", s.tileSize, "Tile size in metres")->capture_default_str();
+    cmd.add_option_function<std::string>(
+           "--origin",
+           [&s](const std::string& text) {
+               const glm::dvec3 o = parsePoint(text, "--origin");
+               s.origin = {o.x, o.y, o.z};
+           },
+           "Where the world's south-west corner lies on the globe (WGS84): LONGITUDE,LATITUDE,HEIGHT in degrees and "
+           "metres; tileset.json's root transform puts it there")
+        ->default_str(format("{},{},{}", s.origin.longitude, s.origin.latitude, s.origin.height));
     cmd.add_option("--seed", s.seed, "Random seed (the same world as dawnforge city --seed)")->capture_default_str();
     cmd.add_option("--recipe", o.recipeFile, "JSON city recipe (as dawnforge city takes)");
     cmd.add_option("--halo", s.halo, "Metres around a tile that its bake traces against")->capture_default_str();

@@ -22,6 +22,25 @@ using Json = nlohmann::json;
 // Plan (x east, y north, z up) → runtime (x, z, −y).
 glm::dvec3 toRuntime(glm::dvec3 p) { return {p.x, p.z, -p.y}; }
 
+// A rigid transform whose 3 × 3 part is a rotation other than the identity (16 numbers,
+// column-major, last row 0 0 0 1).
+bool placesOnTheGlobe(const Json& t) {
+    if (!t.is_array() || t.size() != 16 || !std::all_of(t.begin(), t.end(), [](const Json& v) { return v.is_number(); }))
+        return false;
+    glm::dmat3 r;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) r[c][k] = t[std::size_t(4 * c + k)].get<double>();
+    const glm::dmat3 rrt = r * glm::transpose(r);
+    double offIdentity = 0.0, offOrthonormal = 0.0;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) {
+            offIdentity = std::max(offIdentity, std::abs(r[c][k] - (c == k ? 1.0 : 0.0)));
+            offOrthonormal = std::max(offOrthonormal, std::abs(rrt[c][k] - (c == k ? 1.0 : 0.0)));
+        }
+    return offIdentity > 1e-12 && offOrthonormal < 1e-9 && glm::determinant(r) > 0.0 && t[3] == 0 && t[7] == 0 &&
+           t[11] == 0 && t[15] == 1;
+}
+
 struct Reader {
     const std::filesystem::path& dir;
     const std::string& file;
@@ -29,8 +48,12 @@ struct Reader {
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(format("{}: {}", file, what)); }
 
-    glm::dvec3 translation(const Json& tile, const std::string& name) const {
+    // A tile's translation (runtime axes). The root's transform may also turn: that places the
+    // tileset on the globe (dawnforge worlds: east-north-up to ECEF), and the runtime draws in
+    // the root's own frame.
+    glm::dvec3 translation(const Json& tile, const std::string& name, bool root = false) const {
         if (!tile.contains("transform")) return glm::dvec3(0.0);
+        if (root && placesOnTheGlobe(tile.at("transform"))) return glm::dvec3(0.0);
         const Json& t = tile.at("transform");
         if (!t.is_array() || t.size() != 16) fail(format("{}: \"transform\" is not 16 numbers", name));
         std::vector<double> m;
@@ -107,7 +130,7 @@ struct Reader {
         n.name = name;
         n.parent = parent;
         n.depth = depth;
-        n.offset = frame + translation(tile, name);
+        n.offset = frame + translation(tile, name, depth == 0);
         if (!tile.contains("geometricError") || !tile.at("geometricError").is_number() || tile.at("geometricError").get<double>() < 0.0)
             fail(format("{}: \"geometricError\" is not a number ≥ 0", name));
         n.geometricError = tile.at("geometricError").get<double>();

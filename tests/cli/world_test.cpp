@@ -69,7 +69,9 @@ nlohmann::json readJson(const fs::path& file) { return nlohmann::json::parse(tes
 TEST(CliWorld, BuildsTheCityTileByTileWithAManifest) {
     TempDir dir;
     const fs::path w = dir / "my world";
-    ASSERT_EQ(plan(w, smallWorld()).exitCode, 0);
+    std::vector<std::string> planned = smallWorld();
+    planned.insert(planned.end(), {"--origin", "2.2945,48.8584,35"});
+    ASSERT_EQ(plan(w, planned).exitCode, 0);
     const RunResult r = build(w, {"--stages", "city,bake,hlod"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_TRUE(test::contains(r.out, "bake")) << r.out;
@@ -90,6 +92,14 @@ TEST(CliWorld, BuildsTheCityTileByTileWithAManifest) {
 
     const nlohmann::json ts = readJson(w / "tileset.json");
     EXPECT_EQ(ts["asset"]["version"], "1.1");
+    // On the globe where --origin says: the root's transform takes the plan's origin to ECEF, 35 m
+    // above the ellipsoid at 48.86° N (between the polar and the equatorial radius from the centre).
+    ASSERT_EQ(ts["root"]["transform"].size(), 16u);
+    EXPECT_EQ(ts["extras"]["origin"]["latitude"], 48.8584);
+    const double radius = std::hypot(ts["root"]["transform"][12].get<double>(), ts["root"]["transform"][13].get<double>(),
+                                     ts["root"]["transform"][14].get<double>());
+    EXPECT_GT(radius, 6356752.0 + 35.0);
+    EXPECT_LT(radius, 6378137.0 + 35.0);
     const nlohmann::json& hlod = ts["root"]["children"][0];
     EXPECT_EQ(hlod["refine"], "REPLACE");
     EXPECT_EQ(hlod["content"]["uri"], "hlod/1_0_0.glb");
@@ -254,6 +264,8 @@ TEST(CliWorld, BadInputGetsOneLineAndExitTwo) {
     refused(plan(dir / "w", {"--size", "256x256", "--tile-size", "0"}), "--tile-size");
     refused(plan(dir / "w", {"--size", "256x256", "--tile-size", "-5"}), "--tile-size");
     refused(plan(dir / "w", {"--size", "256x256", "--tile-size", "300"}), "larger than the world");
+    refused(plan(dir / "w", {"--size", "256x256", "--origin", "10,95,0"}), "--origin");
+    refused(plan(dir / "w", {"--size", "256x256", "--origin", "10,50"}), "--origin");
     EXPECT_FALSE(fs::exists(dir / "w" / "plan.json"));
     refused(build(dir / "empty"), "no plan.json");
     ASSERT_EQ(plan(dir / "w", smallWorld()).exitCode, 0);

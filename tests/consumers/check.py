@@ -9,6 +9,9 @@
                                         half of the 8-bit step of 2048/255 cm)
   check.py anim REPORT.json SIM_DIR     every piece (a node named as sim.json's piece_names) at
                                         every frame within 1 mm and 0.1 degrees of transforms.bin
+  check.py cesium REPORT.json PLAN      CesiumJS put the plan's origin where plan.json says (1e-9
+                                        degrees, 1 cm), drew only HLOD contents from afar, refined to
+                                        every tile near, loaded every content and none failed
 
 Prints one line per report; exits 1 with the reason when a bound does not hold.
 """
@@ -89,6 +92,36 @@ def check_anim(report, sim_dir):
     print(f"ok: {label}: worst {worst_p * 1000:.3g} mm, {worst_d:.3g} degrees")
 
 
+def check_cesium(report, plan_path):
+    r = report["result"]
+    want = json.load(open(plan_path))["origin"]
+    got = r["origin"]
+    label = f'CesiumJS {r["cesium"]} ({len(r["contents"])} contents)'
+    if got is None:
+        fail(f"{label}: Cesium puts the plan's origin at ECEF {r['ecef_origin']}, which is no place on the globe")
+    if not (abs(got["longitude"] - want["longitude"]) < 1e-9 and abs(got["latitude"] - want["latitude"]) < 1e-9
+            and abs(got["height"] - want["height"]) < 0.01):
+        fail(f"{label}: the plan's origin lands at {got}, not at plan.json's {want}")
+    views = {v["name"]: v for v in r["views"]}
+    leaves = [c for c in r["contents"] if c.endswith("/city.glb")]
+    hlods = [c for c in r["contents"] if c.startswith("hlod/")]
+    for v in views.values():
+        if not v["settled"]:
+            fail(f"{label}: the {v['name']} view did not settle (tilesLoaded never held)")
+        if v["failed"]:
+            fail(f"{label}: the {v['name']} view failed to load {v['failed']}")
+    far, near = views["far"], views["near"]
+    if not far["visible"] or any(c not in hlods for c in far["visible"]):
+        fail(f"{label}: from {far['height']} m Cesium drew {far['visible']}, not HLOD contents alone")
+    if sorted(near["visible"]) != sorted(leaves):
+        fail(f"{label}: from {near['height']} m Cesium drew {near['visible']}, not every tile {leaves}")
+    loaded = set(far["loaded"]) | set(near["loaded"])
+    if loaded != set(r["contents"]):
+        fail(f"{label}: Cesium loaded {sorted(loaded)}, not every content {r['contents']}")
+    print(f"ok: {label}: the origin at {got['longitude']:.9f}, {got['latitude']:.9f}, {got['height']:.3g} m; "
+          f"far: {far['visible']}; near: {len(near['visible'])} tiles")
+
+
 def main():
     kind, path = sys.argv[1], sys.argv[2]
     with open(path) as f:
@@ -101,6 +134,8 @@ def main():
         check_pivots(report)
     elif kind == "anim":
         check_anim(report, sys.argv[3])
+    elif kind == "cesium":
+        check_cesium(report, sys.argv[3])
     else:
         fail(f"unknown kind {kind}")
 

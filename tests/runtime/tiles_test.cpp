@@ -69,6 +69,28 @@ SelectionCamera looking(glm::dvec3 eye, glm::dvec3 target) {
 const auto kNone = [](int) { return false; };
 const auto kAll = [](int) { return true; };
 
+// A root transform that turns places the world on the globe (dawnforge's east-north-up to ECEF):
+// the runtime draws in the root's frame, the same as without it; a turning child is refused.
+TEST(Tiles, ARootOnTheGlobeIsDrawnInItsOwnFrame) {
+    Json j = worldTileset();
+    j["root"]["transform"] = {-0.17364817766693033, 0.984807753012208, 0, 0, -0.7544065067354889, -0.133022221559489,
+                              0.6427876096865394, 0, 0.6330222215594891, 0.11161889704894966, 0.766044443118978, 0,
+                              4045456.4053408867, 713323.1135414785, 4862789.037706437, 1};
+    const Tileset globe = parseTileset(j.dump(), "/w", "/w/tileset.json"), flat = world();
+    ASSERT_EQ(globe.nodes.size(), flat.nodes.size());
+    for (std::size_t i = 0; i < flat.nodes.size(); ++i) {
+        EXPECT_EQ(globe.nodes[i].offset, flat.nodes[i].offset) << flat.nodes[i].name;
+        EXPECT_EQ(globe.nodes[i].boxMin, flat.nodes[i].boxMin) << flat.nodes[i].name;
+    }
+    j["root"]["transform"] = {0.5, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // a scale: not a place on the globe
+    try {
+        parseTileset(j.dump(), "/w", "/w/tileset.json");
+        ADD_FAILURE() << "a scaling root was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a translation"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Tiles, ReadsFramesBoxesAreasAndErrorsInRuntimeCoordinates) {
     const Tileset t = world();
     ASSERT_EQ(t.nodes.size(), 6u);

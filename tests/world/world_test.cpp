@@ -109,6 +109,7 @@ TEST(WorldPlan, PlanJsonIsTheSameBytesAndReadsBack) {
     EXPECT_EQ(plan.destroy.size(), 12u);
     const std::string json = world::planJson(plan);
     EXPECT_EQ(json, world::planJson(world::planWorld(s)));
+    EXPECT_TRUE(test::contains(json, "\"origin\"")) << "the globe origin is in the plan";
     test::TempDir dir;
     writeFileAtomically(dir / "plan.json", json);
     EXPECT_EQ(world::planJson(world::readPlan(dir.path())), json);
@@ -128,6 +129,37 @@ TEST(WorldPlan, RefusesBadSettingsNamingTheOption) {
     EXPECT_TRUE(test::contains(refused([](auto& s) { s.size = {0.0, 100.0}; }), "--size"));
     EXPECT_TRUE(test::contains(refused([](auto& s) { s.halo = -1.0; }), "--halo"));
     EXPECT_TRUE(test::contains(refused([](auto& s) { s.destroy = {999999}; }), "999999"));
+    EXPECT_TRUE(test::contains(refused([](auto& s) { s.origin.latitude = 91.0; }), "--origin"));
+    EXPECT_TRUE(test::contains(refused([](auto& s) { s.origin.longitude = -181.0; }), "--origin"));
+    EXPECT_TRUE(test::contains(refused([](auto& s) { s.origin.height = std::nan(""); }), "--origin"));
+}
+
+// The plan's east-north-up frame on WGS84, against values worked out by hand: at 0° E, 0° N
+// east is +y, north +z, up +x and the origin is a from the centre; at the pole, up is +z and
+// the origin b = a √(1 − e²) from it; elsewhere the frame is orthonormal, right-handed, and a
+// height moves the origin along up.
+TEST(WorldPlan, TheOriginsEastNorthUpFrameOnTheEllipsoid) {
+    constexpr double a = 6378137.0, b = 6356752.314245;
+    const glm::dmat4 equator = world::enuToEcef({0.0, 0.0, 0.0});
+    EXPECT_NEAR(glm::distance(glm::dvec3(equator[0]), glm::dvec3(0, 1, 0)), 0.0, 1e-15);
+    EXPECT_NEAR(glm::distance(glm::dvec3(equator[1]), glm::dvec3(0, 0, 1)), 0.0, 1e-15);
+    EXPECT_NEAR(glm::distance(glm::dvec3(equator[2]), glm::dvec3(1, 0, 0)), 0.0, 1e-15);
+    EXPECT_NEAR(glm::distance(glm::dvec3(equator[3]), glm::dvec3(a, 0, 0)), 0.0, 1e-6);
+    const glm::dmat4 pole = world::enuToEcef({0.0, 90.0, 100.0});
+    EXPECT_NEAR(glm::distance(glm::dvec3(pole[3]), glm::dvec3(0, 0, b + 100.0)), 0.0, 1e-3);
+    EXPECT_NEAR(glm::distance(glm::dvec3(pole[2]), glm::dvec3(0, 0, 1)), 0.0, 1e-15);
+    const world::GeoOrigin somewhere{-122.4783, 37.808, 20.0};
+    const glm::dmat4 m = world::enuToEcef(somewhere);
+    const glm::dmat3 r(m);
+    EXPECT_NEAR(glm::determinant(r), 1.0, 1e-12);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) EXPECT_NEAR(glm::dot(r[i], r[j]), i == j ? 1.0 : 0.0, 1e-12);
+    const glm::dmat4 ground = world::enuToEcef({somewhere.longitude, somewhere.latitude, 0.0});
+    EXPECT_NEAR(glm::distance(glm::dvec3(m[3]), glm::dvec3(ground[3]) + 20.0 * glm::dvec3(m[2])), 0.0, 1e-6);
+    // Up is the ellipsoid's normal: it leans from the radius towards the equator's plane.
+    const double geocentric = std::asin(glm::normalize(glm::dvec3(ground[3])).z) * 180.0 / 3.14159265358979323846;
+    EXPECT_LT(geocentric, somewhere.latitude);
+    EXPECT_GT(geocentric, somewhere.latitude - 0.2);
 }
 
 }  // namespace

@@ -135,6 +135,15 @@ async function main() {
 	const THREE = await import('three');
 	const { Matrix3, Matrix4, Vector3, PerspectiveCamera } = THREE;
 
+	// The root's transform when it turns: the world's place on the globe (east-north-up to ECEF).
+	// The check works in the root's own frame (plan metres), as a reader without a globe does:
+	// the reader's group gets the inverse.
+	const globe = (() => {
+		const t = tileset.root.transform;
+		if (!Array.isArray(t) || t.length !== 16) return null;
+		return new Matrix3().setFromMatrix4(new Matrix4().fromArray(t)).equals(new Matrix3()) ? null : new Matrix4().fromArray(t);
+	})();
+
 	// uri -> { world (Matrix4: tile frame -> tileset frame), box, kind, depth, ancestors, json }
 	const byUri = new Map();
 	const leaves = [];
@@ -144,7 +153,7 @@ async function main() {
 		const local = new Matrix4();
 		if (tile.transform) {
 			if (tile.transform.length !== 16) fail(`a tile's transform has ${tile.transform.length} numbers, not 16`);
-			local.fromArray(tile.transform);   // column-major, as 3D Tiles writes it
+			if (!(depth === 0 && globe)) local.fromArray(tile.transform);   // column-major, as 3D Tiles writes it
 		}
 		const world = parentWorld.clone().multiply(local);
 		const uri = tile.content?.uri ?? null;
@@ -248,7 +257,24 @@ async function main() {
 	const bounds = (lo, hi) => ({ min: lo.toArray().map(r4), max: hi.toArray().map(r4) });
 
 	// Checks one loaded content; returns its report.
+	// A content not shown is outside the reader's group: measured under a stand-in for it.
 	function checkContent(name, t, visible) {
+		const scene = t.engineData?.scene, holder = new THREE.Group();
+		const detached = scene && !scene.parent && globe;
+		if (detached) {
+			holder.matrixAutoUpdate = false;
+			holder.matrix.copy(globe).invert();
+			holder.add(scene);
+			holder.updateMatrixWorld(true);
+		}
+		try {
+			return checkContentInGroup(name, t, visible);
+		} finally {
+			if (detached) holder.remove(scene);
+		}
+	}
+
+	function checkContentInGroup(name, t, visible) {
 		const uri = t.content.uri;
 		const info = byUri.get(uri);
 		if (!info) fail(`${name} view: the reader loaded ${uri}, which tileset.json does not list`);
@@ -294,7 +320,11 @@ async function main() {
 		const tiles = new TilesRenderer(base + 'tileset.json');
 		tiles.lruCache.maxBytesSize = 8 * 2 ** 30;   // room for every content of a test world
 		tiles.lruCache.minBytesSize = 6 * 2 ** 30;
-		tiles.group.updateMatrixWorld(true);         // identity: the scene's world frame is the tileset frame
+		if (globe) {                                 // the root's frame, not the globe's
+			tiles.group.matrixAutoUpdate = false;
+			tiles.group.matrix.copy(globe).invert();
+		}
+		tiles.group.updateMatrixWorld(true);         // else identity: the scene's world frame is the tileset frame
 		const errors = [];
 		tiles.addEventListener('load-error', e => errors.push(`${e.url}: ${e.error?.message ?? e.error}`));
 		const camera = new PerspectiveCamera(FOV, WIDTH / HEIGHT, 0.1, 1e6);
@@ -350,7 +380,8 @@ async function main() {
 
 	// ---- (a) far above the world, looking down (north up)
 	if (topHlods.length === 0) fail('tileset.json has no HLOD content (hlod/*.glb): nothing to expect from far away');
-	const rootInfo = { box: tileset.root.boundingVolume.box, world: new Matrix4().fromArray(tileset.root.transform ?? new Matrix4().elements) };
+	const rootInfo = { box: tileset.root.boundingVolume.box,
+		world: globe ? new Matrix4() : new Matrix4().fromArray(tileset.root.transform ?? new Matrix4().elements) };
 	const rootAabb = aabbOfObb(worldBox(rootInfo));
 	const topError = Math.max(...topHlods.map(i => i.json.geometricError));
 	const rootError = tileset.root.content ? Infinity : tileset.root.geometricError;

@@ -43,6 +43,11 @@ void checkSettings(const WorldSettings& s) {
         throw InputError(format("--halo: must be 0 to the world's size, {} m (got {})", std::max(s.size.x, s.size.y), s.halo));
     if (!(s.haloTexelScale >= 1.0 && s.haloTexelScale <= 64.0))
         throw InputError(format("--bake-halo-texel-scale: must be 1 to 64 (got {})", s.haloTexelScale));
+    const GeoOrigin& o = s.origin;
+    if (!(o.longitude >= -180.0 && o.longitude <= 180.0 && o.latitude >= -90.0 && o.latitude <= 90.0 &&
+          o.height >= -11000.0 && o.height <= 100000.0))
+        throw InputError(format("--origin: longitude -180 to 180, latitude -90 to 90, height -11000 to 100000 m "
+                                "(got {}, {}, {})", o.longitude, o.latitude, o.height));
     if (s.destroyPerTile < 0 || s.destroyPerTile > 1000)
         throw InputError(format("--destroy: must be 0 to 1000 buildings per tile (got {})", s.destroyPerTile));
 }
@@ -201,6 +206,7 @@ std::string planJson(const WorldPlan& plan) {
     j["tile_size"] = s.tileSize;
     j["halo"] = s.halo;
     j["coordinates"] = "plan metres: x east, y north; a tile's city.glb is in its own frame, origin at its south-west corner";
+    j["origin"] = {{"longitude", s.origin.longitude}, {"latitude", s.origin.latitude}, {"height", s.origin.height}};
     j["tile_count"] = ivec(plan.tileCount);
     j["recipe"] = Json::parse(procgen::recipeJson(s.recipe));
     const bake::BakeSettings& b = s.bake;
@@ -258,6 +264,10 @@ WorldPlan parsePlan(const Json& j, const std::string& source) {
     s.size = {j.at("size").at(0).get<double>(), j.at("size").at(1).get<double>()};
     s.tileSize = j.at("tile_size").get<double>();
     s.halo = j.at("halo").get<double>();
+    if (j.contains("origin")) {  // plans written before it have the default
+        const Json& o = j.at("origin");
+        s.origin = {o.at("longitude").get<double>(), o.at("latitude").get<double>(), o.at("height").get<double>()};
+    }
     s.recipe = procgen::parseRecipe(j.at("recipe").dump(), source + ": recipe");
     const Json& b = j.at("bake");
     s.bake.texel = b.at("texel").get<double>();

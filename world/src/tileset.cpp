@@ -138,11 +138,20 @@ void writeTileset(const fs::path& worldDir, const WorldPlan& plan, const Finishe
     // The root has no content: drawn alone it loses the whole world, so its error is the
     // world's extent, and a reader refines it at any distance.
     const double rootError = std::max(glm::length(box.hi - box.lo), 2.0 * error);
-    Json root{{"boundingVolume", boxJson(box)}, {"geometricError", rootError}, {"refine", "REPLACE"}, {"children", std::move(children)}};
+    // The root's transform places the plan's east-north-up frame on the globe (a reader that
+    // has no globe, dawnforge's runtime among them, may draw in the root's frame).
+    const glm::dmat4 globe = enuToEcef(plan.settings.origin);
+    Json transform = Json::array();
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) transform.push_back(globe[c][r]);
+    Json root{{"boundingVolume", boxJson(box)}, {"geometricError", rootError}, {"refine", "REPLACE"},
+              {"transform", std::move(transform)}, {"children", std::move(children)}};
     Json j{{"asset", {{"version", "1.1"}, {"generator", "dawnforge world build"}}},
            {"geometricError", rootError},
            {"root", std::move(root)},
            {"extras", {{"plan", "plan.json"}, {"coordinates", "x east, y north, z up, metres from the plan's origin"},
+                       {"origin", {{"longitude", plan.settings.origin.longitude}, {"latitude", plan.settings.origin.latitude},
+                                   {"height", plan.settings.origin.height}}},
                        {"tiles", plan.tileCount.x * plan.tileCount.y}, {"hlod_levels", plan.hlodLevels}}}};
     writeFileAtomically(worldDir / "tileset.json", j.dump(1) + "\n");
 }

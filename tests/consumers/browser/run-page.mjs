@@ -27,7 +27,7 @@ const HERE = path.dirname(fileURLToPath(import.meta.url));
 const TYPES = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
   '.glb': 'model/gltf-binary', '.gltf': 'model/gltf+json', '.png': 'image/png', '.exr': 'image/x-exr',
-  '.bin': 'application/octet-stream',
+  '.bin': 'application/octet-stream', '.wasm': 'application/wasm', '.css': 'text/css',
 };
 
 function usage(message) {

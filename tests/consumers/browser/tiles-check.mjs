@@ -180,7 +180,9 @@ try {
 const byPath = new Map(), byUri = new Map();
 (function walk(tile, parentWorld, path, ancestors) {
   if (tile.transform && tile.transform.length !== 16) fail(`tileset.json: tile "${path}" has a transform of ${tile.transform.length} numbers`);
-  const world = mul(parentWorld, tile.transform ?? IDENTITY);
+  // the root's transform when it turns is the world's place on the globe: the page works in the root's frame
+  const globe = path === '' && Array.isArray(tile.transform) && [0, 1, 2, 4, 5, 6, 8, 9, 10].some((k, i) => tile.transform[k] !== IDENTITY[k]);
+  const world = mul(parentWorld, globe ? IDENTITY : tile.transform ?? IDENTITY);
   const box = tile.boundingVolume?.box;
   if (!Array.isArray(box) || box.length !== 12) fail(`tileset.json: tile "${path}" has no boundingVolume.box of 12 numbers`);
   const centre = point(world, box.slice(0, 3));

@@ -42,11 +42,23 @@ const r4 = (x) => Number(x.toFixed(4));
 const v3 = (v) => v.toArray().map(r4);
 const frame = () => new Promise((resolve) => requestAnimationFrame(resolve));
 
+// The root's transform when it places the world on the globe (a rotation: dawnforge writes east-
+// north-up to ECEF). This page works in the root's own frame, as a three.js app does that has no
+// globe: the tiles' group gets the inverse, and the camera and the reports are in plan metres.
+function globeOf(root) {
+  if (!Array.isArray(root.transform) || root.transform.length !== 16) return null;
+  const m = new THREE.Matrix4().fromArray(root.transform);
+  const linear = new THREE.Matrix3().setFromMatrix4(m);
+  return linear.equals(new THREE.Matrix3()) ? null : m;
+}
+const ownFrame = (tile, isRoot) => (tile.transform && !(isRoot && globeOf(tile))
+  ? new THREE.Matrix4().fromArray(tile.transform) : new THREE.Matrix4());
+
 // What tileset.json says, walked here only to place the camera (as check.mjs does).
 function walkTileset(tileset) {
   const leaves = [], topHlods = [];
   (function walk(tile, parentWorld, hlodAbove) {
-    const world = parentWorld.clone().multiply(tile.transform ? new THREE.Matrix4().fromArray(tile.transform) : new THREE.Matrix4());
+    const world = parentWorld.clone().multiply(ownFrame(tile, tile === tileset.root));
     const uri = tile.content?.uri ?? null;
     const info = { tile, world, uri };
     if (uri && /city\.glb$/.test(uri)) leaves.push(info);
@@ -76,7 +88,7 @@ function placeCamera(tileset, width, height) {
   if (VIEW === 'far') {
     if (!topHlods.length) throw new Error('tileset.json has no HLOD content (hlod/*.glb) to show from afar');
     const root = tileset.root;
-    const rootBox = aabbOf(root.boundingVolume.box, root.transform ? new THREE.Matrix4().fromArray(root.transform) : new THREE.Matrix4());
+    const rootBox = aabbOf(root.boundingVolume.box, ownFrame(root, true));
     const low = distanceFor(Math.max(...topHlods.map((h) => h.tile.geometricError)));
     const high = root.content ? Infinity : distanceFor(root.geometricError);
     // the world's square: the top HLODs' extras.area (their box less the far land), else the root box
@@ -135,6 +147,7 @@ function tileReport(tiles, tile, path) {
   if (bv) {
     const box = new THREE.Box3(), m = new THREE.Matrix4();
     bv.getOBB(box, m);
+    m.premultiply(tiles.group.matrixWorld);   // in the page's frame (the root's own, when it is on the globe)
     const centre = box.getCenter(new THREE.Vector3());
     const half = box.getSize(new THREE.Vector3()).multiplyScalar(0.5);
     const c = centre.clone().applyMatrix4(m);
@@ -143,6 +156,7 @@ function tileReport(tiles, tile, path) {
     r.obb = { center: v3(c), half_axes: axes };
     const s = new THREE.Sphere();
     bv.getSphere(s);
+    s.applyMatrix4(tiles.group.matrixWorld);
     r.sphere = { center: v3(s.center), radius: r4(s.radius) };
   }
   if (tile.internal?.loadingState === LOADED && e.scene) {
@@ -153,9 +167,18 @@ function tileReport(tiles, tile, path) {
       const g = o.geometry;
       triangles += (g.index ? g.index.count : g.attributes.position.count) / 3;
     });
+    // a content not shown is outside the group: measure it under a stand-in for the group
+    const detached = e.scene.parent === null, holder = new THREE.Group();
+    if (detached) {
+      holder.matrixAutoUpdate = false;
+      holder.matrix.copy(tiles.group.matrixWorld);
+      holder.add(e.scene);
+      holder.updateMatrixWorld(true);
+    }
     const b = new THREE.Box3().setFromObject(e.scene);
-    e.scene.updateWorldMatrix(false, false);
+    e.scene.updateWorldMatrix(true, false);
     const origin = new THREE.Vector3().applyMatrix4(e.scene.matrixWorld);
+    if (detached) holder.remove(e.scene);
     r.content = { meshes, triangles, origin: v3(origin), ...(b.isEmpty() ? {} : { min: v3(b.min), max: v3(b.max) }) };
   }
   return r;
@@ -199,6 +222,11 @@ async function main() {
   tiles.addEventListener('load-error', (e) => errors.push({ url: String(e.url), error: String(e.error?.message ?? e.error) }));
   tiles.setCamera(camera);
   tiles.setResolutionFromRenderer(camera, renderer);
+  const globe = globeOf(tileset.root);
+  if (globe) {
+    tiles.group.matrixAutoUpdate = false;
+    tiles.group.matrix.copy(globe).invert();
+  }
   scene.add(tiles.group);
 
   const t0 = performance.now();

@@ -9,6 +9,7 @@
 #include <dawnforge/bake/bake.hpp>
 #include <dawnforge/procgen/city.hpp>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 
 #include <cstdint>
@@ -18,8 +19,21 @@
 
 namespace dawnforge::world {
 
+// Where the plan's origin (its south-west corner at ground level) lies on the globe, WGS84.
+struct GeoOrigin {
+    double longitude = 10.0;  // degrees east
+    double latitude = 50.0;   // degrees north
+    double height = 0.0;      // metres above the ellipsoid
+};
+
+// The plan's east-north-up frame (x east, y north, z up, metres from the origin) to ECEF
+// (WGS84, metres): the root transform of tileset.json, as CesiumJS's
+// Transforms.eastNorthUpToFixedFrame gives it (world/src/globe.cpp).
+glm::dmat4 enuToEcef(const GeoOrigin& origin);
+
 struct WorldSettings {
     procgen::CityRecipe recipe;
+    GeoOrigin origin;                 // where tileset.json puts the world on the globe
     std::uint64_t seed = 1;
     glm::dvec2 size{1024.0, 1024.0};  // metres, x by y
     double tileSize = 256.0;          // metres
@@ -63,7 +77,8 @@ struct WorldPlan {
 inline constexpr const char* kStages[] = {"city", "bake", "hlod", "destroy"};
 
 // Throws InputError for a tile size that is not positive, larger than the world, or makes more
-// than 65,536 tiles, a bad size, halo or recipe, or a destroyed building that is not in the plan.
+// than 65,536 tiles, a bad size, halo, origin or recipe, or a destroyed building that is not in
+// the plan.
 WorldPlan planWorld(const WorldSettings& settings, const ProgressFn& progress = {});
 
 // The settings of `procgen::generateCity` for one tile of the world: the tile alone in its own
