@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace dawnforge::exporters {
@@ -59,9 +60,10 @@ public:
 
     using Writer = std::function<void(unsigned char*)>;
 
-    int add(Writer writer, std::size_t bytes, std::size_t count, int componentType, int type, int target,
-            bool normalized = false) {
-        size_ = (size_ + 3) & ~std::size_t(3);
+    // A buffer view of `bytes` at a multiple of `align` (EXT_structural_metadata's are at 8);
+    // returns its index.
+    int addView(Writer writer, std::size_t bytes, int target = 0, std::size_t align = 4) {
+        size_ = (size_ + align - 1) & ~(align - 1);
         tinygltf::BufferView view;
         view.buffer = 0;
         view.byteOffset = size_;
@@ -70,7 +72,12 @@ public:
         writers_.push_back({size_, bytes, std::move(writer)});
         size_ += bytes;
         model_.bufferViews.push_back(view);
+        return static_cast<int>(model_.bufferViews.size() - 1);
+    }
 
+    int add(Writer writer, std::size_t bytes, std::size_t count, int componentType, int type, int target,
+            bool normalized = false) {
+        addView(std::move(writer), bytes, target);
         tinygltf::Accessor accessor;
         accessor.bufferView = static_cast<int>(model_.bufferViews.size() - 1);
         accessor.byteOffset = 0;
@@ -113,7 +120,7 @@ public:
     // between views; one view at a time is held in memory.
     template <typename Sink>
     void emit(Sink&& sink) const {
-        static const unsigned char kZeros[4] = {0, 0, 0, 0};
+        static const unsigned char kZeros[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         std::vector<unsigned char> chunk;
         std::size_t at = 0;
         for (const View& view : writers_) {
@@ -182,6 +189,16 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
                 }
             },
             ids.size() * 4, ids.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
+    }
+    if (mesh.featureId >= 0) {  // EXT_mesh_features: one feature for the whole mesh, a float (4-byte aligned, exact to 2^24)
+        DAWNFORGE_ASSERT(mesh.featureId < (1 << 24), "a feature id beyond float's integers");
+        const std::size_t n = mesh.positions.size();
+        const auto id = static_cast<float>(mesh.featureId);
+        prim.attributes["_FEATURE_ID_0"] = buffers.add(
+            [n, id](unsigned char* out) {
+                for (std::size_t i = 0; i < n; ++i) std::memcpy(out + 4 * i, &id, 4);
+            },
+            n * 4, n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
     }
     // The smallest index type that holds every index.
     const bool small = mesh.positions.size() <= 65535;
@@ -278,6 +295,58 @@ private:
     std::string json_;
 };
 
+// EXT_structural_metadata for `table`: its schema (one class) and property table, each column
+// in a buffer view at a multiple of 8 bytes (strings: the UTF-8 bytes and UINT32 offsets).
+// Null when the table is empty.
+nlohmann::ordered_json encodeFeatureTable(const FeatureTable& table, BufferBuilder& buffers) {
+    if (table.className.empty()) return nullptr;
+    nlohmann::ordered_json classProperties = nlohmann::ordered_json::object(), columns = nlohmann::ordered_json::object();
+    const auto view = [&](const void* data, std::size_t bytes) {
+        return buffers.addView([data, bytes](unsigned char* out) { std::memcpy(out, data, bytes); }, bytes, 0, 8);
+    };
+    for (const FeatureProperty& p : table.properties) {
+        if (!p.uints.empty()) {
+            DAWNFORGE_ASSERT(p.uints.size() == table.count, "a feature column of the wrong length");
+            classProperties[p.name] = {{"type", "SCALAR"}, {"componentType", "UINT32"}};
+            columns[p.name] = {{"values", view(p.uints.data(), p.uints.size() * 4)}};
+        } else if (!p.floats.empty()) {
+            DAWNFORGE_ASSERT(p.floats.size() == table.count, "a feature column of the wrong length");
+            classProperties[p.name] = {{"type", "SCALAR"}, {"componentType", "FLOAT32"}};
+            columns[p.name] = {{"values", view(p.floats.data(), p.floats.size() * 4)}};
+        } else {
+            DAWNFORGE_ASSERT(p.strings.size() == table.count, "a feature column of the wrong length");
+            auto bytes = std::make_shared<std::string>();
+            auto offsets = std::make_shared<std::vector<std::uint32_t>>(1, 0u);
+            for (const std::string& text : p.strings) {
+                *bytes += text;
+                offsets->push_back(static_cast<std::uint32_t>(bytes->size()));
+            }
+            const int values = buffers.addView([bytes](unsigned char* out) { std::memcpy(out, bytes->data(), bytes->size()); },
+                                               bytes->size(), 0, 8);
+            const int at = buffers.addView(
+                [offsets](unsigned char* out) { std::memcpy(out, offsets->data(), offsets->size() * 4); },
+                offsets->size() * 4, 0, 8);
+            classProperties[p.name] = {{"type", "STRING"}};
+            columns[p.name] = {{"values", values}, {"stringOffsets", at}};
+        }
+    }
+    return {{"schema", {{"id", "dawnforge"}, {"classes", {{table.className, {{"properties", classProperties}}}}}}},
+            {"propertyTables", nlohmann::ordered_json::array(
+                                   {{{"class", table.className}, {"count", table.count}, {"properties", columns}}})}};
+}
+
+// The root's EXT_structural_metadata and each featured mesh's EXT_mesh_features (its one
+// primitive: every vertex the mesh's row), and both in extensionsUsed.
+void addFeatureExtensions(nlohmann::ordered_json& json, const Scene& scene, const nlohmann::ordered_json& metadata) {
+    json["extensions"]["EXT_structural_metadata"] = metadata;
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+        if (scene.meshes[m].featureId >= 0)
+            json["meshes"][m]["primitives"][0]["extensions"]["EXT_mesh_features"] = {
+                {"featureIds", {{{"featureCount", 1}, {"attribute", 0}, {"propertyTable", 0}}}}};
+    nlohmann::ordered_json& used = json["extensionsUsed"];
+    for (const char* name : {"EXT_mesh_features", "EXT_structural_metadata"}) used.push_back(name);
+}
+
 GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
     tinygltf::Model& model = model_;
     BufferBuilder& buffers = buffers_;
@@ -294,6 +363,7 @@ GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
     model.materials.push_back(material);
 
     for (const Mesh& mesh : scene.meshes) model.meshes.push_back(encodeMesh(mesh, buffers, 0));
+    const nlohmann::ordered_json metadata = encodeFeatureTable(scene.features, buffers);
 
     for (const Node& node : scene.nodes) {
         tinygltf::Node n;
@@ -326,6 +396,7 @@ GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
     tinygltf::TinyGLTF writer;
     DAWNFORGE_ASSERT(writer.WriteGltfSceneToStream(&model, stream, false, false), "tinygltf could not encode the scene");
     nlohmann::ordered_json json = nlohmann::ordered_json::parse(stream.str());
+    if (!metadata.is_null()) addFeatureExtensions(json, scene, metadata);
     if (buffers.size() > 0)
         json["buffers"] = nlohmann::ordered_json::array({{{"byteLength", buffers.size()}}});
     else

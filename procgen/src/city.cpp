@@ -505,6 +505,23 @@ std::string cityReportJson(const City& city) {
     return j.dump(1) + "\n";
 }
 
+// A row of the scene's building table (glTF EXT_structural_metadata, class "building"): id,
+// floors, height, roof and wall material, so that a 3D Tiles or glTF reader can pick a building
+// and show them. Returns the row.
+std::int32_t addBuildingFeature(FeatureTable& table, const Building& b) {
+    if (table.className.empty()) {
+        table.className = "building";
+        for (const char* name : {"id", "floors", "height", "roof", "wall_material"}) table.properties.push_back({name, {}, {}, {}});
+    }
+    auto& p = table.properties;
+    p[0].uints.push_back(std::uint32_t(b.id));
+    p[1].uints.push_back(std::uint32_t(b.floors));
+    p[2].floats.push_back(float(b.height));
+    p[3].strings.emplace_back(roofTypeName(b.roof));
+    p[4].strings.emplace_back(materialName(b.wallMaterial));
+    return std::int32_t(table.count++);
+}
+
 Scene takeCityScene(City& city) {
     Scene scene;
     SharedMeshes sharedMeshes;
@@ -534,6 +551,7 @@ Scene takeCityScene(City& city) {
             const std::uint32_t buildingNode = addChild(tileNode, bn);
             b.lod0.name = buildingName(b.id) + "_lod0";
             b.lod1.name = buildingName(b.id) + "_lod1";
+            b.lod0.featureId = b.lod1.featureId = addBuildingFeature(scene.features, b);
             addChild(buildingNode, meshNode(std::move(b.lod0)));
             addChild(buildingNode, meshNode(std::move(b.lod1)));
         }

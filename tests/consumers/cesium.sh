@@ -3,7 +3,8 @@
 # loads a world that `dawnforge world build` wrote, placed on the globe by its plan's --origin
 # (browser/cesium.mjs): the plan's origin must land where plan.json says in Cesium's own WGS84
 # arithmetic, a far camera must draw the HLOD alone, a near one every tile, and every content
-# must load (check.py cesium). Then a copy of the world whose tileset.json has no root transform
+# must load, and a building picked from above must carry its city.json properties (check.py
+# cesium). Then a copy of the world whose tileset.json has no root transform
 # (the world at the Earth's centre, as before the georeference) must fail the same check.
 #
 # usage: cesium.sh DAWNFORGE_EXE WORK_DIR      (exit 77: the browser or cesium is not installed)

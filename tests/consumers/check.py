@@ -11,7 +11,8 @@
                                         every frame within 1 mm and 0.1 degrees of transforms.bin
   check.py cesium REPORT.json PLAN      CesiumJS put the plan's origin where plan.json says (1e-9
                                         degrees, 1 cm), drew only HLOD contents from afar, refined to
-                                        every tile near, loaded every content and none failed
+                                        every tile near, loaded every content and none failed, and
+                                        picked a building whose properties are city.json's
 
 Prints one line per report; exits 1 with the reason when a bound does not hold.
 """
@@ -118,8 +119,20 @@ def check_cesium(report, plan_path):
     loaded = set(far["loaded"]) | set(near["loaded"])
     if loaded != set(r["contents"]):
         fail(f"{label}: Cesium loaded {sorted(loaded)}, not every content {r['contents']}")
+    pick = r["pick"]
+    want_b, got_b = pick["expected"], pick["got"]
+    if want_b is None:
+        fail(f"{label}: tile 0_0 has no building to pick")
+    if got_b is None:
+        fail(f"{label}: picking building {want_b['id']} from above gave {pick['picked']}, not a feature")
+    for key in ("id", "floors", "roof", "wall_material"):
+        if got_b[key] != want_b[key]:
+            fail(f"{label}: the picked feature's {key} is {got_b[key]!r}, city.json says {want_b[key]!r} (building {want_b['id']})")
+    if not abs(got_b["height"] - want_b["height"]) < 0.01:
+        fail(f"{label}: the picked feature's height is {got_b['height']}, city.json says {want_b['height']}")
     print(f"ok: {label}: the origin at {got['longitude']:.9f}, {got['latitude']:.9f}, {got['height']:.3g} m; "
-          f"far: {far['visible']}; near: {len(near['visible'])} tiles")
+          f"far: {far['visible']}; near: {len(near['visible'])} tiles; picked building {got_b['id']} "
+          f"({got_b['floors']} floors, {got_b['height']:.2f} m, {got_b['roof']} roof, {got_b['wall_material']})")
 
 
 def main():

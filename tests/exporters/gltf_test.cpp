@@ -120,3 +120,72 @@ TEST(Gltf, LargeIntegersInExtrasAreNotWrapped) {
     EXPECT_EQ(j["scenes"][0]["extras"]["seed"].get<double>(), 12345678901.0);
     EXPECT_EQ(j["scenes"][0]["extras"]["small"], -7);
 }
+
+// Features (EXT_mesh_features + EXT_structural_metadata), read back from the bytes as a reader
+// would: each featured mesh's vertices carry its row, and the property table's columns (a
+// UINT32, a FLOAT32 and a STRING one, each at a multiple of 8 bytes) hold the values in order.
+TEST(Gltf, FeaturesAreRowsOfTheSchemasPropertyTable) {
+    Scene scene;
+    scene.features.className = "thing";
+    scene.features.count = 3;
+    scene.features.properties = {{"id", {7, 8, 9}, {}, {}}, {"height", {}, {1.5f, 2.5f, 3.5f}, {}},
+                                 {"roof", {}, {}, {"flat", "", "gable"}}};
+    for (int row : {2, 0}) {
+        Mesh m = makeBox({0, 0, 0}, {1, 1, 1});
+        m.featureId = row;
+        scene.addMeshNode(m);
+    }
+    scene.addMeshNode(makeBox({0, 0, 0}, {1, 1, 1}));  // no feature
+    const std::vector<std::byte> glb = encodeGlb(scene);
+    const nlohmann::json j = glbJson(glb);
+    std::uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, glb.data() + 12, 4);
+    const std::byte* bin = glb.data() + 20 + jsonLength + 8;
+    const auto view = [&](int index, int align = 8) {
+        const nlohmann::json& v = j["bufferViews"][std::size_t(index)];
+        EXPECT_EQ(v.value("byteOffset", 0) % align, 0) << "view " << index;
+        return std::pair{bin + v.value("byteOffset", 0), v["byteLength"].get<std::size_t>()};
+    };
+    EXPECT_EQ(j["extensionsUsed"], nlohmann::json({"EXT_mesh_features", "EXT_structural_metadata"}));
+    const nlohmann::json& meta = j["extensions"]["EXT_structural_metadata"];
+    EXPECT_EQ(meta["schema"]["classes"]["thing"]["properties"]["roof"]["type"], "STRING");
+    const nlohmann::json& table = meta["propertyTables"][0];
+    EXPECT_EQ(table["class"], "thing");
+    EXPECT_EQ(table["count"], 3);
+    const auto [ids, idBytes] = view(table["properties"]["id"]["values"].get<int>());
+    ASSERT_EQ(idBytes, 12u);
+    std::uint32_t id[3];
+    std::memcpy(id, ids, 12);
+    EXPECT_EQ(std::vector<std::uint32_t>(id, id + 3), (std::vector<std::uint32_t>{7, 8, 9}));
+    const auto [heights, heightBytes] = view(table["properties"]["height"]["values"].get<int>());
+    float h[3];
+    ASSERT_EQ(heightBytes, 12u);
+    std::memcpy(h, heights, 12);
+    EXPECT_EQ(h[2], 3.5f);
+    const auto [text, textBytes] = view(table["properties"]["roof"]["values"].get<int>());
+    const auto [offsets, offsetBytes] = view(table["properties"]["roof"]["stringOffsets"].get<int>());
+    ASSERT_EQ(offsetBytes, 16u);
+    std::uint32_t at[4];
+    std::memcpy(at, offsets, 16);
+    const std::string all(reinterpret_cast<const char*>(text), textBytes);
+    EXPECT_EQ(all.substr(at[0], at[1] - at[0]), "flat");
+    EXPECT_EQ(all.substr(at[1], at[2] - at[1]), "");
+    EXPECT_EQ(all.substr(at[2], at[3] - at[2]), "gable");
+    // The meshes: rows 2 and 0 in every vertex; the third has no feature.
+    for (const auto& [mesh, row] : {std::pair{0, 2.0f}, std::pair{1, 0.0f}}) {
+        const nlohmann::json& prim = j["meshes"][std::size_t(mesh)]["primitives"][0];
+        EXPECT_EQ(prim["extensions"]["EXT_mesh_features"]["featureIds"][0]["propertyTable"], 0);
+        const nlohmann::json& accessor = j["accessors"][prim["attributes"]["_FEATURE_ID_0"].get<std::size_t>()];
+        const auto [values, bytes] = view(accessor["bufferView"].get<int>(), 4);
+        for (std::size_t i = 0; i < accessor["count"].get<std::size_t>(); ++i) {
+            float f = 0.0f;
+            std::memcpy(&f, values + 4 * i, 4);
+            ASSERT_EQ(f, row) << "mesh " << mesh << " vertex " << i;
+        }
+    }
+    EXPECT_FALSE(j["meshes"][2]["primitives"][0].contains("extensions"));
+    TempDir dir;
+    writeGlb(scene, dir / "features.glb");
+    test::expectValidGltf(dir / "features.glb");
+    EXPECT_EQ(loadMeshNodes(dir / "features.glb").size(), 3u) << "our own reader ignores the extensions";
+}

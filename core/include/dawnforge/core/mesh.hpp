@@ -30,6 +30,7 @@ struct Mesh {
     std::vector<glm::vec2> uv3;             // fourth set (VAT pivot)
     std::vector<std::uint8_t> materialIds;  // empty, or one per vertex, 0..15
     std::vector<std::uint32_t> pieceIds;    // empty, or one per vertex
+    std::int32_t featureId = -1;            // ≥ 0: every vertex is that row of the scene's FeatureTable
 
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t triangleCount() const { return indices.size() / 3; }

@@ -35,12 +35,28 @@ struct Animation {
     std::vector<NodeTrack> tracks;
 };
 
+// Per-feature properties, one table (glTF: EXT_structural_metadata's property table; a mesh
+// with a featureId is that row, EXT_mesh_features). Each property fills one of its columns.
+struct FeatureProperty {
+    std::string name;
+    std::vector<std::uint32_t> uints;  // UINT32, or
+    std::vector<float> floats;         // FLOAT32, or
+    std::vector<std::string> strings;  // STRING (UTF-8)
+};
+
+struct FeatureTable {
+    std::string className;  // empty: the scene has no features
+    std::size_t count = 0;  // rows
+    std::vector<FeatureProperty> properties;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> roots;  // nodes without a parent, in order
     std::vector<Animation> animations;
     std::string extrasJson;            // a JSON object for the scene's "extras", or empty
+    FeatureTable features;
 
     // Adds a mesh and a root node that shows it; returns the node's index.
     std::uint32_t addMeshNode(Mesh mesh, glm::vec3 translation = glm::vec3(0.0f));
