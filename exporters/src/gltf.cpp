@@ -77,9 +77,8 @@ public:
 
     int add(Writer writer, std::size_t bytes, std::size_t count, int componentType, int type, int target,
             bool normalized = false) {
-        addView(std::move(writer), bytes, target);
         tinygltf::Accessor accessor;
-        accessor.bufferView = static_cast<int>(model_.bufferViews.size() - 1);
+        accessor.bufferView = addView(std::move(writer), bytes, target);
         accessor.byteOffset = 0;
         accessor.componentType = componentType;
         accessor.type = type;

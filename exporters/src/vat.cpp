@@ -28,6 +28,8 @@ namespace dawnforge::exporters {
 namespace {
 
 using vat_codec::Engine;
+using vat_codec::LdrCodes;
+using vat_codec::texelOffset;
 using vat_codec::engineOf;
 using vat_codec::pack;
 using vat_codec::unpack;
@@ -69,11 +71,6 @@ std::vector<double> pieceRadii(std::span<const Mesh> pieces) {
     return radius;
 }
 
-// Where piece j's texel of frame k starts in an RGBA texture.
-std::size_t texelOffset(const VatLayout& L, std::size_t j, int k) {
-    const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
-    return (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
-}
 
 // The turns from q to nextQ that the rotation alpha carries: the simulated path's when
 // given (`index` into them), else the shortest way. Below a microradian, zero.
@@ -255,22 +252,6 @@ struct EngineBounds {
 void addCode(EngineBounds& b, const Engine& engine, const glm::dvec3& code) {
     const glm::dvec3 e = engine.axes * code;
     for (int a = 0; a < 3; ++a) (e[a] > 0.0 ? b.encodedHi : b.encodedLo)[a] += e[a];
-}
-
-// What the Non-HDR bounds carry: the largest turns per frame (the HDA's max RPF: at least 1)
-// and the largest piece scale, for the packing cases the position alpha holds.
-struct LdrCodes {
-    double maxTurns = 1.0, maxScale = 1.0;
-    bool twoTextures = true;
-};
-
-LdrCodes ldrCodes(const Vat& vat, const VatSettings& settings) {
-    int lo = 3, hi = 0;
-    for (std::size_t i = 3; i < vat.position.size(); i += 4) {
-        const int m = int(std::lround(4.0 * vat.position[i]));
-        lo = std::min(lo, m), hi = std::max(hi, m);
-    }
-    return {std::max(1.0, vat.maxTurnsPerFrame), vat_codec::ldrMaxScale(lo, hi), !settings.singlePositionTexture};
 }
 
 EngineBounds engineBounds(const Vat& vat, const Engine& engine, VatFormat format, const LdrCodes& ldr) {
@@ -503,12 +484,10 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     const std::vector<double> radius = pieceRadii(animation.pieces);
     for (std::size_t j = 0; j < n; ++j) encodePiece(vat, animation, engine, settings.half, j, radius[j]);
 
-    const LdrCodes codes = ldr ? ldrCodes(vat, settings) : LdrCodes{};
+    const LdrCodes codes = ldr ? vat_codec::ldrCodes(vat, !settings.singlePositionTexture) : LdrCodes{};
     const EngineBounds bounds = engineBounds(vat, engine, settings.format, codes);
     if (ldr)
-        vat_codec::quantizeLdr(vat, animation, engine,
-                               {bounds.encodedLo, bounds.encodedHi, codes.maxTurns, codes.maxScale, codes.twoTextures},
-                               radius);
+        vat_codec::quantizeLdr(vat, animation, engine, bounds.encodedLo, bounds.encodedHi, codes, radius);
 
     // A pivot the UVs carry a little off moves every vertex of its piece by as much.
     vat.maxPivotError = appendPieceMeshes(vat.mesh, animation, vat.layout, usesVeryHighPivots(settings));

@@ -43,24 +43,29 @@ inline glm::dvec3 position(std::span<const float> transforms, std::size_t index)
     return {t[0], t[1], t[2]};
 }
 
-// The Non-HDR form (vat_ldr.cpp). `lo`, `hi`: the encoded bounds the engines lerp between
-// (engine axes and units); maxTurns: the largest turns per frame the bounds carry (≥ 1);
-// maxScale: the largest piece scale they carry (ldrMaxScale).
-struct LdrRange {
-    glm::dvec3 lo{0.0}, hi{1.0};
-    double maxTurns = 1.0;
-    double maxScale = 1.0;
-    bool twoTextures = true;  // the positions' hundredths in vat.position2
+// Where piece j's texel of frame k starts in an RGBA texture.
+inline std::size_t texelOffset(const VatLayout& L, std::size_t j, int k) {
+    const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
+    return (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
+}
+
+// The Non-HDR form (vat_ldr.cpp). What its bounds carry: the largest turns per frame (the
+// HDA's max RPF: at least 1), the largest piece scale, and whether a second texture holds the
+// positions' hundredths.
+struct LdrCodes {
+    double maxTurns = 1.0, maxScale = 1.0;
+    bool twoTextures = true;
 };
-// The largest piece scale for the packing cases m in [lo, hi] that the position alpha holds:
-// the smallest 8-bit alpha of case m decodes (1 − frac(4a)) × maxScale = (1 − m/255) ×
-// maxScale, so this centres the cases used on 1 (1 when only case 0 occurs; ± 0.59 % for all).
-inline double ldrMaxScale(int lo, int hi) { return 2.0 / ((1.0 - lo / 255.0) + (1.0 - hi / 255.0)); }
+// The codes for `vat` in its HDR values: the largest piece scale centres the packing cases the
+// position alpha holds on a scale of 1 (exact when only case 0 occurs, ± 0.59 % for all four).
+LdrCodes ldrCodes(const Vat& vat, bool twoTextures);
 
 // Rewrites vat.position and vat.rotation (the HDR values, engine axes and units) in the
-// Non-HDR form as k / 255, fills vat.position2 (with range.twoTextures), and measures the errors of what the Labs
-// decoders read back (vat.max*Error) against the animation. radius: each piece's.
-void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, const LdrRange& range,
-                 std::span<const double> radius);
+// Non-HDR form as k / 255, fills vat.position2 (with codes.twoTextures), and measures the
+// errors of what the Labs decoders read back (vat.max*Error) against the animation. `lo`,
+// `hi`: the encoded bounds the engines lerp between (engine axes and units); radius: each
+// piece's.
+void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, const glm::dvec3& lo,
+                 const glm::dvec3& hi, const LdrCodes& codes, std::span<const double> radius);
 
 }  // namespace dawnforge::exporters::vat_codec

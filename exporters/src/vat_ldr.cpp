@@ -72,24 +72,30 @@ double quantizeCase(int dropped, double maxScale, float& out) {
     return (1.0 - (four - std::floor(four))) * maxScale;
 }
 
-std::size_t texelOf(const VatLayout& L, std::size_t j, int k) {
-    const std::size_t row = std::size_t(k) * std::size_t(L.rowsPerFrame) + j / std::size_t(L.width);
-    return (row * std::size_t(L.width) + j % std::size_t(L.width)) * 4;
-}
-
 }  // namespace
 
-void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, const LdrRange& range,
-                 std::span<const double> radius) {
+LdrCodes ldrCodes(const Vat& vat, bool twoTextures) {
+    int lo = 3, hi = 0;
+    for (std::size_t i = 3; i < vat.position.size(); i += 4) {
+        const int m = int(std::lround(4.0 * vat.position[i]));
+        lo = std::min(lo, m), hi = std::max(hi, m);
+    }
+    // The smallest alpha of case m decodes (1 − m/255) × maxScale: centre the cases used on 1.
+    const double maxScale = 2.0 / ((1.0 - lo / 255.0) + (1.0 - hi / 255.0));
+    return {std::max(1.0, vat.maxTurnsPerFrame), maxScale, twoTextures};
+}
+
+void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, const glm::dvec3& lo,
+                 const glm::dvec3& hi, const LdrCodes& codes, std::span<const double> radius) {
     const VatLayout& L = vat.layout;
     const std::size_t n = L.pieces;
     std::vector<float> hundredths(vat.position.size(), 1.0f);
     vat.maxPositionError = vat.maxRotationError = vat.maxVertexError = vat.maxScaleError = 0.0;
-    const glm::dvec3 extent = range.hi - range.lo;
+    const glm::dvec3 extent = hi - lo;
     for (std::size_t j = 0; j < n; ++j) {
         const glm::dquat rest = orientation(animation.transforms, j);
         for (int k = 0; k < L.frames; ++k) {
-            const std::size_t index = std::size_t(k) * n + j, texel = texelOf(L, j, k);
+            const std::size_t index = std::size_t(k) * n + j, texel = texelOffset(L, j, k);
             float* pos = vat.position.data() + texel;
             float* pos2 = hundredths.data() + texel;
             float* rot = vat.rotation.data() + texel;
@@ -97,12 +103,12 @@ void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, 
             const glm::dvec3 pe = engine.scale * (engine.axes * P);
             glm::dvec3 decoded;
             for (int c = 0; c < 3; ++c)
-                decoded[c] = range.lo[c] + splitUnit((pe[c] - range.lo[c]) / extent[c], range.twoTextures, pos[c], pos2[c]) * extent[c];
+                decoded[c] = lo[c] + splitUnit((pe[c] - lo[c]) / extent[c], codes.twoTextures, pos[c], pos2[c]) * extent[c];
             const PackedRotation packed = pack(orientation(animation.transforms, index) * glm::conjugate(rest));
             const double rotationError =
                 quantizeTriple(engine.tripleMap() * packed.triple, packed.dropped, packed.canonical, engine, rot);
-            rot[3] = quantizeTurns(double(rot[3]), range.maxTurns);
-            const double scaleError = std::abs(quantizeCase(packed.dropped, range.maxScale, pos[3]) - 1.0);
+            rot[3] = quantizeTurns(double(rot[3]), codes.maxTurns);
+            const double scaleError = std::abs(quantizeCase(packed.dropped, codes.maxScale, pos[3]) - 1.0);
             const double positionError = glm::length(engine.toOurs(decoded) - P);
             vat.maxPositionError = std::max(vat.maxPositionError, positionError);
             vat.maxRotationError = std::max(vat.maxRotationError, rotationError);
@@ -111,7 +117,7 @@ void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, 
                                                                                 scaleError) * radius[j]);
         }
     }
-    if (range.twoTextures) vat.position2 = std::move(hundredths);
+    if (codes.twoTextures) vat.position2 = std::move(hundredths);
 }
 
 }  // namespace dawnforge::exporters::vat_codec
