@@ -1,6 +1,8 @@
 #pragma once
 // What every command's options share: the common flags, the one --threads option, the one
-// W x H parser, X,Y,Z points, and progress on stderr.
+// W x H parser, X,Y,Z points, options that name one of a few choices, and progress on stderr.
+#include <dawnforge/core/error.hpp>
+#include <dawnforge/core/format.hpp>
 #include <dawnforge/core/progress.hpp>
 #include <dawnforge/core/validate.hpp>
 
@@ -29,6 +31,23 @@ std::string sizeText(glm::dvec2 size);  // "500x500", the form parseSize reads
 
 // "X,Y,Z": three finite numbers separated by commas. Throws InputError naming `option` otherwise.
 glm::dvec3 parsePoint(const std::string& text, const char* option);
+
+// An option naming one of a few choices: `parse` turns a name into the value (or nullopt), and
+// an unknown name is refused as "unknown WHAT 'NAME' (expected CHOICES)". Help shows `shown`.
+template <typename T, typename Parse>
+CLI::Option* addChoiceOption(CLI::App& command, const std::string& name, T& target, Parse parse, const char* what,
+                             const char* choices, const std::string& description, const std::string& shown) {
+    return command
+        .add_option_function<std::string>(
+            name,
+            [&target, parse, what, choices](const std::string& text) {
+                const std::optional<T> value = parse(text);
+                if (!value) throw InputError(format("unknown {} '{}' (expected {})", what, text, choices));
+                target = *value;
+            },
+            description)
+        ->default_str(shown);
+}
 
 // An "X,Y,Z" option (parsePoint) that sets `target` when given.
 CLI::Option* addPointOption(CLI::App& command, const std::string& name, std::optional<glm::dvec3>& target,

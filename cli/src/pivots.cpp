@@ -50,15 +50,9 @@ Command addPivots(CLI::App& app, CommonOptions&) {
                   "parent): DIR/<name>_pivots.exr, _axes.png (.exr for native), <name>.glb, _pivots.json");
     cmd->add_option("MESH", o->input, "A file with a node hierarchy (glTF, GLB, FBX, ...)")->required();
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
-    cmd->add_option_function<std::string>(
-           "--preset",
-           [o](const std::string& name) {
-               const auto preset = exporters::parsePivotPreset(name);
-               if (!preset) throw InputError(format("unknown preset '{}' (expected unreal or native)", name));
-               o->preset = *preset;
-           },
-           "unreal (Epic's Pivot Painter 2: centimetres, Z up, half-float pivots) or native (metres, +Y up, float)")
-        ->default_str("unreal");
+    addChoiceOption(*cmd, "--preset", o->preset, exporters::parsePivotPreset, "preset", "unreal or native",
+                    "unreal (Epic's Pivot Painter 2: centimetres, Z up, half-float pivots) or native (metres, +Y up, float)",
+                    "unreal");
     cmd->add_option("--name", o->name, "File name prefix (default: the input's name)");
     return {cmd, [o] { return runPivots(*o); }};
 }

@@ -55,25 +55,13 @@ Command addVat(CLI::App& app, CommonOptions&) {
                "DIR/<name>_pos.exr, _rot.exr (or with --format ldr _pos.png, _pos2.png, _rot.png), _mesh.glb, _data.json");
     cmd->add_option("SIM_DIR", o->simDir, "Folder written by 'dawnforge simulate'")->required();
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
-    cmd->add_option_function<std::string>(
-           "--preset",
-           [&s](const std::string& name) {
-               const auto preset = exporters::parseVatPreset(name);
-               if (!preset) throw InputError(format("unknown preset '{}' (expected native, unreal or unity)", name));
-               s.preset = *preset;
-           },
-           "native (metres, +Y up), unreal (Z-up centimetres) or unity")
-        ->default_str(std::string(exporters::vatPresetName(s.preset)));
-    cmd->add_option_function<std::string>(
-           "--format",
-           [&s](const std::string& name) {
-               const auto parsed = exporters::parseVatFormat(name);
-               if (!parsed) throw InputError(format("unknown format '{}' (expected hdr or ldr)", name));
-               s.format = *parsed;
-           },
-           "hdr (OpenEXR float) or ldr (the Labs Non-HDR form: 8-bit PNGs _pos, _pos2, _rot, for mobile; unity and "
-           "unreal presets)")
-        ->default_str(std::string(exporters::vatFormatName(s.format)));
+    addChoiceOption(*cmd, "--preset", s.preset, exporters::parseVatPreset, "preset", "native, unreal or unity",
+                    "native (metres, +Y up), unreal (Z-up centimetres) or unity",
+                    std::string(exporters::vatPresetName(s.preset)));
+    addChoiceOption(*cmd, "--format", s.format, exporters::parseVatFormat, "format", "hdr or ldr",
+                    "hdr (OpenEXR float) or ldr (the Labs Non-HDR form: 8-bit PNGs _pos, _pos2, _rot, for mobile; unity "
+                    "and unreal presets)",
+                    std::string(exporters::vatFormatName(s.format)));
     cmd->add_flag("--half", s.half, "hdr: RGBA16F textures instead of RGBA32F");
     cmd->add_flag("--single-position-texture", s.singlePositionTexture,
                   "ldr: positions in one 8-bit texture (to 1/510 of the bounds) instead of two (to 1/51,000)");
