@@ -7,8 +7,9 @@
 #
 # Buildings: the demo's (14 of its 320 x 280 m district: the same city.json as `dawnforge demo`),
 # and a 4-storey (2) and a 13-storey (50) building of the default recipe's 400 x 400 m district,
-# seed 1. Prints one line per building: pieces, bonds broken, bodies, the simulation's wall time
-# (the whole `simulate` process) and its peak memory.
+# seed 1. Prints one line per building: pieces, bonds broken, bodies, chips and puffs of dust,
+# the simulation's wall time (the whole `simulate` process, debris and dust included) and its
+# peak memory.
 set -euo pipefail
 dawnforge=$(realpath "$1")
 work=$(mktemp -d)
@@ -20,7 +21,7 @@ echo '{"coast": {"water": 0.3}}' >"$work/demo.json"
 # impact FRACTURE_DIR: the demo's impact point from the pieces' bounds in fragments.glb
 impact() { python3 "$(dirname "$0")/demo_impact.py" "$1"; }
 
-printf '%-22s %7s %13s %7s %8s %8s\n' building pieces broken bodies seconds peak_MB
+printf '%-22s %7s %13s %7s %6s %6s %8s %8s\n' building pieces broken bodies chips puffs seconds peak_MB
 for case in "demo 14" "large 2" "large 50"; do
   read -r city id <<<"$case"
   dir=$work/$city-$id
@@ -33,9 +34,11 @@ for case in "demo 14" "large 2" "large 50"; do
   python3 - "$dir" "$city $id" <<'PY'
 import json, sys
 d, name = sys.argv[1:]
-glue = json.load(open(f"{d}/sim/sim.json"))["glue"]
+sim = json.load(open(f"{d}/sim/sim.json"))
+glue, debris = sim["glue"], sim.get("debris", {})
 seconds, kb = open(f"{d}/time").read().split()
-pieces = json.load(open(f"{d}/sim/sim.json"))["pieces"]
-print(f"{name:<22} {pieces:7} {glue['broken']:6} of {glue['bonds']:<5} {glue.get('bodies', '-'):>6} {float(seconds):8.2f} {int(kb) / 1024:8.0f}")
+chips, puffs = debris.get("chips", 0), debris.get("dust", {}).get("puffs", 0)
+print(f"{name:<22} {sim['pieces'] - chips:7} {glue['broken']:6} of {glue['bonds']:<5} {glue.get('bodies', '-'):>6} "
+      f"{chips:6} {puffs:6} {float(seconds):8.2f} {int(kb) / 1024:8.0f}")
 PY
 done

@@ -107,14 +107,17 @@ sim::SimulationResult simulateBuilding(const DemoOptions& options, const procgen
     ball.direction = glm::dvec3(0.0, 0.0, -1.0);
     ball.radius = 1.5;
     sim.projectile = ball;
+    sim.debris.chips = true;
+    sim.debris.dust = true;
     sim::SimulationResult motion;
     {
         StderrProgress progress = progressFor("simulate", common);
         motion = sim::simulate(rigid, pieces.bonds, sim, progress.callback());
     }
     writeSimulationFolder(motion, sim, rigid, options.outputDir / "fracture", options.outputDir / "sim");
-    std::printf("wrote %s: %d frames, %zu of %zu bonds broke\n", (options.outputDir / "sim" / "sim.json").string().c_str(),
-                motion.frames, motion.brokenBonds, motion.bonds);
+    std::printf("wrote %s: %d frames, %zu of %zu bonds broke, %zu chips and %zu puffs of dust\n",
+                (options.outputDir / "sim" / "sim.json").string().c_str(), motion.frames, motion.brokenBonds, motion.bonds,
+                motion.chips.size(), motion.dustPuffs);
     return motion;
 }
 
@@ -122,7 +125,9 @@ sim::SimulationResult simulateBuilding(const DemoOptions& options, const procgen
 void bakeVats(const DemoOptions& options, std::span<const sim::RigidPiece> rigid, const sim::SimulationResult& motion) {
     std::vector<Mesh> meshes;
     for (const sim::RigidPiece& p : rigid) meshes.push_back(p.mesh);
-    const exporters::VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns};
+    for (const sim::RigidPiece& p : motion.chips) meshes.push_back(p.mesh);
+    const exporters::VatAnimation animation{meshes, motion.transforms, motion.frames, motion.fps, motion.turns, motion.dust,
+                                            motion.dustPuffs};
     for (exporters::VatPreset preset :
          {exporters::VatPreset::Native, exporters::VatPreset::Unreal, exporters::VatPreset::Unity}) {
         exporters::VatSettings vat;
@@ -250,7 +255,8 @@ int runDemo(const DemoOptions& options, const CommonOptions& common) {
     const std::vector<sim::RigidPiece> rigid = sim::rigidPieces(pieces);
     const sim::SimulationResult motion =
         timed(stages, {"simulate", "", {"sim"}}, [&] { return simulateBuilding(options, building, pieces, rigid, common); });
-    stages.back().made = format("{} frames at {} fps; {} of {} bonds broke", motion.frames, motion.fps, motion.brokenBonds, motion.bonds);
+    stages.back().made = format("{} frames at {} fps; {} of {} bonds broke; {} chips and {} puffs of dust", motion.frames,
+                                motion.fps, motion.brokenBonds, motion.bonds, motion.chips.size(), motion.dustPuffs);
     timed(stages, {"vat", "VATs of the destruction in three presets: native, unreal, unity", {"vat"}},
           [&] { bakeVats(options, rigid, motion); });
     timed(stages, {"render", "scene.json and three 1280 × 720 pictures", {"scene.json", "render.png", "render_night.png", "render_sunset.png"}},

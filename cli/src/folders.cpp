@@ -60,6 +60,9 @@ void writeSimulationFolder(const sim::SimulationResult& result, const sim::Simul
                            std::span<const sim::RigidPiece> pieces, const std::filesystem::path& fractureDir,
                            const std::filesystem::path& dir) {
     const std::vector<std::byte> fragments = readBinaryFile(fractureDir / "fragments.glb");
+    ensureOutputDirectory(dir);
+    if (!result.chips.empty()) exporters::writeGlb(sim::debrisScene(result), dir / "debris.glb");
+    else std::filesystem::remove(dir / "debris.glb");  // an earlier run's, which sim.json no longer counts
     sim::writeSimulation(dir, result, settings, pieces, fractureDir.string());
     writeFileAtomically(dir / "fragments.glb", fragments);
 }

@@ -28,8 +28,8 @@ void bakeCityFolder(const std::filesystem::path& cityDir, const bake::BakeSettin
 void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
                          const std::string& input, const std::filesystem::path& dir, int building = -1);
 
-// DIR/sim.json, transforms.bin, turns.bin and a copy of FRACTURE_DIR/fragments.glb, so that
-// the folder stands on its own.
+// DIR/sim.json, transforms.bin, turns.bin, a copy of FRACTURE_DIR/fragments.glb, so that
+// the folder stands on its own, and debris.glb when there are chips.
 void writeSimulationFolder(const sim::SimulationResult& result, const sim::SimulationSettings& settings,
                            std::span<const sim::RigidPiece> pieces, const std::filesystem::path& fractureDir,
                            const std::filesystem::path& dir);

@@ -169,11 +169,14 @@ std::string bakeSection(const ReportInputs& inputs, const fs::path& dir) {
 std::string simulationSummary(const nlohmann::json& sim, const report::Motion& m) {
     const nlohmann::json energy = sim.value("energy", nlohmann::json::object());
     const nlohmann::json glue = sim.value("glue", nlohmann::json::object());
-    return format("<p>{} pieces, {} frames at {} fps; {} of {} bonds broke; fastest piece {} m/s. "
+    const nlohmann::json debris = sim.value("debris", nlohmann::json::object());
+    const std::size_t chips = debris.value("chips", std::size_t(0));
+    const std::size_t puffs = debris.value("dust", nlohmann::json::object()).value("puffs", std::size_t(0));
+    return format("<p>{} pieces, {} frames at {} fps; {} of {} bonds broke; {} chips of debris from {} of them and {} puffs of dust; fastest piece {} m/s. "
                   "Energy (sim.json, pieces and projectile less what the triggers put in): initial {} MJ, final {} MJ, "
                   "injected {} MJ. Potential energy of the pieces at frame 0 from transforms.bin: {} MJ.</p>\n",
-                  sim.value("pieces", 0), sim.value("frames", 0), fixed(sim.value("fps", 0.0), 0), glue.value("broken", 0),
-                  glue.value("bonds", 0), fixed(sim.value("max_speed", 0.0), 1), fixed(energy.value("initial", 0.0) / 1e6, 3),
+                  sim.value("pieces", std::size_t(0)) - chips, sim.value("frames", 0), fixed(sim.value("fps", 0.0), 0),
+                  glue.value("broken", 0), glue.value("bonds", 0), chips, debris.value("bonds", 0), puffs, fixed(sim.value("max_speed", 0.0), 1), fixed(energy.value("initial", 0.0) / 1e6, 3),
                   fixed(energy.value("final", 0.0) / 1e6, 3), fixed(energy.value("injected", 0.0) / 1e6, 3),
                   fixed(m.potential.front() / 1e6, 3));
 }

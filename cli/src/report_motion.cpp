@@ -95,15 +95,19 @@ Motion readMotion(const std::filesystem::path& simDir, const std::filesystem::pa
     const int frames = sim.value("frames", 0);
     const double fps = sim.value("fps", 0.0);
     const std::vector<PieceMass> pieces = piecesOf(fractureDir);
-    if (frames < 1 || !(fps > 0.0) || sim.value("pieces", std::size_t(0)) != pieces.size())
+    const std::size_t chips = sim.value("debris", nlohmann::json::object()).value("chips", std::size_t(0));
+    const std::size_t all = pieces.size() + chips;  // the chips of debris follow the pieces
+    if (frames < 1 || !(fps > 0.0) || sim.value("pieces", std::size_t(0)) != all)
         throw InputError(format("{}: frames, fps or pieces do not match {}", (simDir / "sim.json").string(),
                                 (fractureDir / "fracture.json").string()));
     const std::vector<std::byte> bytes = readBinaryFile(simDir / "transforms.bin");
-    std::vector<float> transforms(std::size_t(frames) * pieces.size() * 7);
-    if (bytes.size() != transforms.size() * sizeof(float))
+    if (bytes.size() != std::size_t(frames) * all * 7 * sizeof(float))
         throw InputError(format("{}: {} bytes, expected {}", (simDir / "transforms.bin").string(), bytes.size(),
-                                transforms.size() * sizeof(float)));
-    if (!bytes.empty()) std::memcpy(transforms.data(), bytes.data(), bytes.size());  // little-endian, as this machine
+                                std::size_t(frames) * all * 7 * sizeof(float)));
+    std::vector<float> transforms(std::size_t(frames) * pieces.size() * 7);
+    for (std::size_t f = 0; f < std::size_t(frames); ++f)  // little-endian, as this machine
+        std::memcpy(transforms.data() + f * pieces.size() * 7, bytes.data() + f * all * 7 * sizeof(float),
+                    pieces.size() * 7 * sizeof(float));
     for (float v : transforms)
         if (!std::isfinite(v)) throw InputError(format("{}: a value is not finite", (simDir / "transforms.bin").string()));
     return motionOf(transforms, pieces, frames, fps);

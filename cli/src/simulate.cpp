@@ -87,6 +87,11 @@ int runSimulate(const SimulateOptions& options, const CommonOptions& common) {
                 result.brokenBonds, result.bonds, result.actors, result.fixedActors, result.maxSpeed);
     if (fracture.building >= 0 && !options.noCity)
         std::printf("  in its city: the ground and %zu neighbouring buildings as colliders\n", neighbours);
+    if (settings.debris.chips)
+        std::printf("  debris: %zu chips from %zu of the broken bonds%s\n", result.chips.size(), result.chipBonds,
+                    result.chips.empty() ? "" : " (debris.glb)");
+    if (settings.debris.dust)
+        std::printf("  dust: %zu puffs%s\n", result.dustPuffs, result.dustPuffs == 0 ? "" : " (dust.bin)");
     std::printf("  wrote %s, transforms.bin, turns.bin and a copy of fragments.glb\n",
                 (options.outputDir / "sim.json").string().c_str());
     return 0;
@@ -130,6 +135,33 @@ void addSolverOptions(CLI::App& cmd, sim::SimulationSettings& s) {
                  "sleeps until something touches it");
 }
 
+void addDebrisOptions(CLI::App& cmd, sim::DebrisSettings& d) {
+    d.chips = true;
+    cmd.add_flag("!--no-debris", d.chips, "No chips where bonds break (by default they fly out of the cracks: debris.glb)");
+    cmd.add_option("--chips-per-m2", d.chipsPerSquareMetre,
+                   "Chips per square metre of broken bond, for masonry (glass 2x, wood 0.5x, metal 0.2x)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--chips-per-bond", d.maxChipsPerBond, "At most this many chips from one bond")
+        ->check(CLI::Range(0, 100))->capture_default_str();
+    cmd.add_option("--max-chips", d.maxChips, "At most this many chips in all; the earliest breaks emit first")
+        ->check(CLI::Range(0, 100000))->capture_default_str();
+    cmd.add_option("--chip-size", d.chipSize, "A chip's mean length (m); no chip is thicker than 70 % of its piece")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--spray-speed", d.spraySpeed, "A chip's mean speed out of its crack, over its piece's (m/s)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    d.dust = true;
+    cmd.add_flag("!--no-dust", d.dust, "No dust where bonds break (by default puffs rise, spread and fade: dust.bin)");
+    cmd.add_option("--puffs-per-m2", d.puffsPerSquareMetre,
+                   "Puffs of dust per square metre of broken bond, for masonry (wood 0.5x, glass 0.2x, metal none)")
+        ->check(CLI::NonNegativeNumber)->capture_default_str();
+    cmd.add_option("--max-puffs", d.maxPuffs, "At most this many puffs in all; the earliest breaks emit first")
+        ->check(CLI::Range(0, 4096))->capture_default_str();
+    cmd.add_option("--puff-size", d.puffSize, "A puff's diameter as it leaves the crack (m); it grows to four times that")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+    cmd.add_option("--puff-life", d.puffLife, "A puff's mean time until it has faded out (s)")
+        ->check(CLI::PositiveNumber)->capture_default_str();
+}
+
 void addTriggerOptions(CLI::App& cmd, SimulateOptions& o) {
     cmd.add_option("--trigger-time", o.settings.triggerTime, "When the projectile, explosion or collapse happens (s)")
         ->check(CLI::NonNegativeNumber)->capture_default_str();
@@ -152,11 +184,12 @@ void addTriggerOptions(CLI::App& cmd, SimulateOptions& o) {
 Command addSimulate(CLI::App& app, CommonOptions& common) {
     auto o = std::make_shared<SimulateOptions>();
     CLI::App* cmd = app.add_subcommand("simulate", "Simulate fractured pieces with Bullet: DIR/sim.json, "
-                                                   "DIR/transforms.bin, DIR/turns.bin (+ a copy of fragments.glb)");
+                                                   "DIR/transforms.bin, DIR/turns.bin, DIR/debris.glb, DIR/dust.bin (+ a copy of fragments.glb)");
     cmd->add_option("FRACTURE_DIR", o->fractureDir, "Folder written by 'dawnforge fracture'")->required();
     cmd->add_option("-o,--output", o->outputDir, "Output folder")->required();
     addSolverOptions(*cmd, o->settings);
     addTriggerOptions(*cmd, *o);
+    addDebrisOptions(*cmd, o->settings.debris);
     cmd->add_flag("--no-ground", o->noGround, "No ground plane");
     cmd->add_flag("!--no-anchor", o->settings.anchor,
                   "Glued pieces resting on the ground or the support do not hold their cluster there: it rests as one "

@@ -29,6 +29,8 @@ int runVat(const VatOptions& options) {
     animation.frames = sim.frames;
     animation.fps = sim.fps;
     animation.turns = sim.turns;
+    animation.dust = sim.dust;
+    animation.dustPuffs = sim.dustPuffs;
     const exporters::Vat vat = exporters::encodeVat(animation, settings);
     exporters::writeVat(vat, settings, options.outputDir);
 
@@ -40,8 +42,13 @@ int runVat(const VatOptions& options) {
                 std::string(exporters::vatPresetName(settings.preset)).c_str(), vat.layout.rowsPerFrame, seconds);
     std::printf("  worst error from the precision: position %.3g m, rotation %.3g rad, any vertex %.3g m\n",
                 vat.maxPositionError, vat.maxRotationError, vat.maxVertexError);
-    std::printf("  wrote %s/%s_{%s,mesh.glb,data.json}\n", options.outputDir.string().c_str(), settings.name.c_str(),
-                !ldr ? "pos.exr,rot.exr" : vat.position2.empty() ? "pos.png,rot.png" : "pos.png,pos2.png,rot.png");
+    if (sim.dustPuffs > 0)
+        std::printf("  dust: %zu puffs%s\n", sim.dustPuffs,
+                    vat.dust.empty() ? ", not carried by the ldr format" : format(" into {}×{} texels", vat.dustLayout.width,
+                                                                                  vat.dustLayout.height).c_str());
+    std::printf("  wrote %s/%s_{%s%s,mesh.glb,data.json}\n", options.outputDir.string().c_str(), settings.name.c_str(),
+                !ldr ? "pos.exr,rot.exr" : vat.position2.empty() ? "pos.png,rot.png" : "pos.png,pos2.png,rot.png",
+                vat.dust.empty() ? "" : ",dust.exr");
     return 0;
 }
 

@@ -344,6 +344,25 @@ nlohmann::ordered_json textureJson(const VatSettings& settings) {
             {"import", "nearest filtering, no mips, sRGB off, no compression or HDR compression, no NPOT scaling"}};
 }
 
+// The dust's texture (vat_dust.cpp), or why there is none.
+nlohmann::ordered_json dustJson(const Vat& vat, const VatAnimation& animation, const VatSettings& settings) {
+    nlohmann::ordered_json j = {{"puffs", animation.dustPuffs}};
+    if (vat.dust.empty()) {
+        j["file"] = nullptr;
+        if (animation.dustPuffs > 0) j["note"] = "the ldr format does not carry dust (an 8-bit texture of puffs is not written)";
+        return j;
+    }
+    const VatLayout& L = vat.dustLayout;
+    j["file"] = settings.name + "_dust.exr";
+    j["W"] = L.width;
+    j["R"] = L.rowsPerFrame;
+    j["height"] = L.height;
+    j["layout"] = "puff p at frame k: column p mod W, row k·R + floor(p / W): centre RGB (engine axes and units), A its "
+                  "diameter; row (frames + k)·R + floor(p / W): opacity in R, A = 1. Row 0 at the top";
+    j["draw"] = "a camera-facing sprite per puff, soft (faded where it meets the scene's depth), lit by the sun and the sky";
+    return j;
+}
+
 // <name>_data.json: the layout, conventions and measured errors an importer needs.
 std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSettings& settings,
                      const EngineBounds& bounds, const LdrCodes& codes) {
@@ -384,6 +403,7 @@ std::string dataJson(const Vat& vat, const VatAnimation& animation, const VatSet
                     {"position_alpha", "floor(4a): the dropped component; (1 − frac(4a)) × max_piece_scale: the piece's scale"}};
     }
     j["textures"] = textureJson(settings);
+    j["dust"] = dustJson(vat, animation, settings);
     j["mesh"] = {{"file", settings.name + "_mesh.glb"},
                  {"lookup_uv", "TEXCOORD_1: texel centre of frame 0 (glTF V, from the top)"},
                  {"pivot", usesVeryHighPivots(settings)
@@ -494,6 +514,7 @@ Vat encodeVat(const VatAnimation& animation, const VatSettings& settings) {
     vat.maxVertexError += vat.maxPivotError;
     vat.mesh.name = settings.name;
     if (settings.preset != VatPreset::Native) appendDataTriangles(vat.mesh, bounds, engine, n);
+    if (!ldr) vat_codec::encodeDust(vat, animation, engine, settings);
     vat.dataJson = dataJson(vat, animation, settings, bounds, codes);
     return vat;
 }
@@ -522,6 +543,8 @@ void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem
     } else {
         textures.emplace_back("_pos.exr", encodeExr(vat.position, vat.layout.width, vat.layout.height, settings.half));
         textures.emplace_back("_rot.exr", encodeExr(vat.rotation, vat.layout.width, vat.layout.height, settings.half));
+        if (!vat.dust.empty())
+            textures.emplace_back("_dust.exr", encodeExr(vat.dust, vat.dustLayout.width, vat.dustLayout.height, settings.half));
     }
     Scene scene;
     scene.addMeshNode(vat.mesh);

@@ -68,4 +68,7 @@ LdrCodes ldrCodes(const Vat& vat, bool twoTextures);
 void quantizeLdr(Vat& vat, const VatAnimation& animation, const Engine& engine, const glm::dvec3& lo,
                  const glm::dvec3& hi, const LdrCodes& codes, std::span<const double> radius);
 
+// Fills vat.dust and vat.dustLayout from animation's puffs (vat_dust.cpp); nothing without dust.
+void encodeDust(Vat& vat, const VatAnimation& animation, const Engine& engine, const VatSettings& settings);
+
 }  // namespace dawnforge::exporters::vat_codec

@@ -232,6 +232,30 @@ Mesh checkedMesh(Mesh mesh, const VatLayout& layout, VatPreset preset, const std
 
 }  // namespace
 
+namespace {
+
+// The dust's texture when _data.json's "dust" names one: its layout must be the puffs' over
+// 2 × frames at the stated W.
+void readDust(const std::filesystem::path& dir, const Json& root, const std::string& file, VatFile& vat) {
+    if (!root.contains("dust") || !root["dust"].is_object() || !root["dust"].contains("file") || root["dust"]["file"].is_null())
+        return;
+    const Json& d = root["dust"];
+    const Json& name = member(d, "file", file);
+    if (!name.is_string() || name.get<std::string>().find('/') != std::string::npos)
+        throw InputError(format("{}: \"dust.file\" must be a file name beside it", file));
+    const std::size_t puffs = std::size_t(integer(d, "puffs", file, 1, std::int64_t(kVatMaxTextureSize) * kVatMaxTextureSize));
+    VatLayout L = vatLayout(puffs, 2 * vat.layout.frames, int(integer(d, "W", file, 1, kVatMaxTextureSize)));
+    if (L.width != integer(d, "W", file, 1, kVatMaxTextureSize) || L.height != integer(d, "height", file, 1, kVatMaxTextureSize))
+        throw InputError(format("{}: \"dust\": W and height do not fit {} puffs over 2 × {} frames", file, puffs, vat.layout.frames));
+    bool half = false;
+    vat.dust = readExr(dir / name.get<std::string>(), L, half);
+    L.frames = vat.layout.frames;
+    vat.dustLayout = L;
+    vat.dustPuffs = puffs;
+}
+
+}  // namespace
+
 VatFile readVat(const std::filesystem::path& dir, const std::string& name) {
     const std::filesystem::path posPath = dir / (name + "_pos.exr"), rotPath = dir / (name + "_rot.exr"),
                                 meshPath = dir / (name + "_mesh.glb"), dataPath = dir / (name + "_data.json");
@@ -293,6 +317,7 @@ VatFile readVat(const std::filesystem::path& dir, const std::string& name) {
     vat.rotation = readExr(rotPath, L, rotHalf);
     vat.half = posHalf && rotHalf;
     vat.mesh = checkedMesh(loadMesh(meshPath), L, vat.preset, meshPath.string());
+    readDust(dir, root, file, vat);
     return vat;
 }
 

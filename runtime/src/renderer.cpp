@@ -200,6 +200,12 @@ void Renderer::State::addPasses() {
         s.stats.drawCalls += s.scene.drawOcean(s.stats);
         glDisable(GL_BLEND);
     });
+    // The destructions' dust over everything drawn: the HDR colour alone is bound, as the puffs
+    // read the depth for their soft edges.
+    s.graph.add("dust", [&s] {
+        glBindFramebuffer(GL_FRAMEBUFFER, s.target.flareFbo.id());
+        s.stats.drawCalls += s.scene.drawDust(s.frame.time, s.target.depth.id(), s.lens, s.stats);
+    });
     // Measured before the flares: a lens's ghosts do not close the eye.
     s.graph.add("exposure", [&s] {
         const ExposureSettings& e = s.exposureSettings;

@@ -58,6 +58,8 @@ void SceneGpu::load(const SceneFile& scene, int shadowMapSize, const StreamingOp
     programs_.make();
     vat_ = gl::makeProgram("vat.vert", "surface.frag");
     vatDepth_ = gl::makeProgram("vat.vert", "depth.frag", {"DEPTH_PASS"});
+    dust_ = gl::makeProgram("dust.vert", "dust.frag");
+    emptyVao_ = gl::makeVertexArray();
 
     // The atlas: 2048², mip levels 0..4 only, so no footprint leaves a block's padding.
     const AtlasImage atlas = generateAtlas();
@@ -171,6 +173,12 @@ void SceneGpu::loadVat(const DestructionInstance& d) {
         *texture = gl::makeTexture2D(GL_RGBA32F, file.layout.width, file.layout.height, 1, GL_NEAREST, GL_NEAREST,
                                      GL_CLAMP_TO_EDGE);
         glTextureSubImage2D(texture->id(), 0, 0, 0, file.layout.width, file.layout.height, GL_RGBA, GL_FLOAT, data->data());
+    }
+    if (file.dustPuffs > 0) {
+        const exporters::VatLayout& d = file.dustLayout;
+        v.dust = gl::makeTexture2D(GL_RGBA32F, d.width, d.height, 1, GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        glTextureSubImage2D(v.dust.id(), 0, 0, 0, d.width, d.height, GL_RGBA, GL_FLOAT, file.dust.data());
+        v.dustLayout = glm::vec4(float(d.width), float(d.rowsPerFrame), float(d.frames), float(file.dustPuffs));
     }
     // Vertex data: the static layout, with uv1 = lookup, uv2 = (px, 0) and a ninth
     // attribute (py, pz) from TEXCOORD_3.
@@ -408,6 +416,11 @@ std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, d
     return draws;
 }
 
+glm::mat4 SceneGpu::renderModel(const Vat& v) const {
+    return glm::translate(glm::mat4(1.0f), glm::vec3(v.place - origin_)) *
+           glm::rotate(glm::mat4(1.0f), float(glm::radians(v.yawDegrees)), glm::vec3(0, 1, 0));
+}
+
 std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
     std::size_t draws = 0;
     glUseProgram(depth ? vatDepth_.id() : vat_.id());
@@ -423,9 +436,7 @@ std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
         glUniform4fv(1, 1, glm::value_ptr(v.layout));
         const double frame = std::clamp((time - v.startTime) * v.fps, 0.0, double(v.layout.w) - 1.0);
         glUniform1f(2, float(frame));
-        // Placed in render space: the translation less the origin, in double.
-        const glm::mat4 model = glm::translate(glm::mat4(1.0f), glm::vec3(v.place - origin_)) *
-                                glm::rotate(glm::mat4(1.0f), float(glm::radians(v.yawDegrees)), glm::vec3(0, 1, 0));
+        const glm::mat4 model = renderModel(v);
         glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(model));
         glDrawElements(GL_TRIANGLES, GLsizei(v.indexCount), GL_UNSIGNED_INT, nullptr);
         if (stats) stats->triangles += v.indexCount / 3;

@@ -66,6 +66,9 @@ public:
     std::size_t drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, double lodDistance, double time, FrameStats& stats);
     std::size_t drawDestruction(double time, FrameStats& stats);
     std::size_t drawOcean(FrameStats& stats);  // from the camera given to setCamera()
+    // The destructions' dust (scene_dust.cpp), blended into the framebuffer bound now, which
+    // must not hold `depth` (the scene's depth, read for the soft fade); `lens` as flares.hpp's.
+    std::size_t drawDust(double time, GLuint depth, glm::vec4 lens, FrameStats& stats);
 
 private:
     struct Vat {
@@ -83,6 +86,8 @@ private:
         glm::mat4 model{1.0f};       // runtime coordinates (the probes' boxes)
         glm::uvec4 blocks{0u};
         VatPieceBoxes boxes;
+        gl::Texture dust;            // _dust.exr when there is dust
+        glm::vec4 dustLayout{0.0f};  // W, R, frames, puffs
     };
 
     void loadCity(const SceneFile& scene);
@@ -93,6 +98,8 @@ private:
     void renderOverlook();
     std::size_t drawVats(double time, bool depth, FrameStats* stats);
     glm::vec3 offsetOf(glm::dvec3 frame) const { return glm::vec3(frame - origin_); }
+    // A VAT's placement in render space: the translation less the origin, in double.
+    glm::mat4 renderModel(const Vat& v) const;
 
     CityPrograms programs_;
     IndirectDraws indirect_;
@@ -102,7 +109,8 @@ private:
     std::vector<int> probeNodes_;               // the tiles whose proxies the probes hold
     glm::dvec3 probeOrigin_{0.0};
     glm::dvec3 origin_{0.0};
-    gl::Program vat_, vatDepth_, ocean_;
+    gl::Program vat_, vatDepth_, ocean_, dust_;
+    gl::VertexArray emptyVao_;  // the dust's draws make their vertices from gl_VertexID
     gl::Texture atlas_, rooms_, roomMiddle_;
     gl::Buffer atlasMeans_;  // AtlasMeans (atlas.glsl): each block's mean colour, by code
     gl::Texture noLightmaps_;    // a 1×1 black layer for what has no bake (never read: layer -1)

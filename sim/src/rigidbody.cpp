@@ -1,4 +1,4 @@
-// Rigid-body destruction with Bullet 3.24 (the only Bullet translation unit).
+// Rigid-body destruction with Bullet 3.24 (with hull.cpp and debris_motion.cpp, the Bullet translation units).
 //
 // Determinism: one single-threaded btDiscreteDynamicsWorld, actors added in the order of
 // their smallest piece (a split's too), a fixed step passed to stepSimulation with
@@ -9,6 +9,8 @@
 
 #include "bond_stress.hpp"
 #include "damage.hpp"
+#include "debris.hpp"
+#include "hull.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
@@ -22,7 +24,6 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
-#include <LinearMath/btConvexHullComputer.h>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <tbb/parallel_for.h>
@@ -37,60 +38,6 @@
 namespace dawnforge::sim {
 
 namespace {
-
-btVector3 bt(const glm::dvec3& v) { return btVector3(btScalar(v.x), btScalar(v.y), btScalar(v.z)); }
-glm::dvec3 toGlm(const btVector3& v) { return {double(v.x()), double(v.y()), double(v.z())}; }
-btQuaternion bt(const glm::dquat& q) { return btQuaternion(btScalar(q.x), btScalar(q.y), btScalar(q.z), btScalar(q.w)); }
-glm::dquat toGlm(const btQuaternion& q) { return glm::dquat(double(q.w()), double(q.x()), double(q.y()), double(q.z())); }
-
-// The collision hull of one piece in its principal frame: the convex hull of the mesh,
-// shrunk by the margin (Bullet adds it back), cut down to a vertex budget by farthest
-// point sampling (ties to the lowest index, so the choice is deterministic).
-struct Hull {
-    std::vector<btVector3> points;
-    btScalar margin = 0;
-};
-
-Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, double margin) {
-    std::vector<btScalar> coords;
-    coords.reserve(piece.mesh.positions.size() * 3);
-    const glm::dmat3 toBody = glm::transpose(axes);
-    for (const glm::vec3& p : piece.mesh.positions) {
-        const glm::dvec3 b = toBody * glm::dvec3(p);
-        coords.insert(coords.end(), {btScalar(b.x), btScalar(b.y), btScalar(b.z)});
-    }
-    Hull hull;
-    btConvexHullComputer computer;
-    const btScalar shrunk = computer.compute(coords.data(), int(3 * sizeof(btScalar)), int(coords.size() / 3),
-                                             btScalar(margin), btScalar(0.25));
-    std::vector<btVector3> all;
-    if (shrunk >= 0 && computer.vertices.size() >= 4) {
-        for (int i = 0; i < computer.vertices.size(); ++i) all.push_back(computer.vertices[i]);
-        hull.margin = std::max(shrunk, btScalar(1e-4));
-    } else {  // a flat or tiny piece: keep its points, a small margin
-        for (std::size_t i = 0; i + 2 < coords.size(); i += 3) all.emplace_back(coords[i], coords[i + 1], coords[i + 2]);
-        hull.margin = btScalar(1e-4);
-    }
-    if (int(all.size()) <= budget) {
-        hull.points = std::move(all);
-        return hull;
-    }
-    std::vector<btScalar> nearest(all.size(), std::numeric_limits<btScalar>::max());
-    std::size_t pick = 0;
-    for (std::size_t i = 1; i < all.size(); ++i)
-        if (all[i].length2() > all[pick].length2()) pick = i;
-    for (int n = 0; n < budget; ++n) {
-        hull.points.push_back(all[pick]);
-        std::size_t next = 0;
-        btScalar best = -1;
-        for (std::size_t i = 0; i < all.size(); ++i) {
-            nearest[i] = std::min(nearest[i], (all[i] - all[pick]).length2());
-            if (nearest[i] > best) { best = nearest[i]; next = i; }
-        }
-        pick = next;
-    }
-    return hull;
-}
 
 // Sleeping, with PhysX's defaults (a wake counter of 0.4 s; a mass-normalised kinetic energy
 // of 0.005 J/kg, 0.1 m/s): a body slower than these for kSleepAfter stops being simulated until
@@ -241,6 +188,13 @@ void checkSettings(std::span<const RigidPiece> pieces, std::span<const Bond> bon
     if (!(s.damageTransmission >= 0.0 && s.damageTransmission <= 1.0))
         throw InputError(format("the damage transmission must be in [0, 1] (got {})", s.damageTransmission));
     if (s.damageHops < 1) throw InputError(format("damage hops must be at least 1 (got {})", s.damageHops));
+    const DebrisSettings& d = s.debris;
+    if (!(d.chipsPerSquareMetre >= 0.0) || !std::isfinite(d.chipsPerSquareMetre) || d.maxChipsPerBond < 0 ||
+        !(d.chipSize > 0.0) || !std::isfinite(d.chipSize) || !(d.spraySpeed >= 0.0) || !std::isfinite(d.spraySpeed))
+        throw InputError("debris needs a non-negative chip rate, count and spray speed and a positive chip size");
+    if (!(d.puffsPerSquareMetre >= 0.0) || !std::isfinite(d.puffsPerSquareMetre) || !(d.puffSize > 0.0) ||
+        !std::isfinite(d.puffSize) || !(d.puffLife > 0.0) || !std::isfinite(d.puffLife))
+        throw InputError("dust needs a non-negative puff rate and a positive puff size and life");
     for (std::size_t i = 0; i < pieces.size(); ++i) {
         const RigidPiece& p = pieces[i];
         if (!(p.mass > 0.0) || !std::isfinite(p.mass))
@@ -1142,8 +1096,10 @@ SimulationResult simulate(std::span<const RigidPiece> pieces, std::span<const Bo
     gDeactivationTime = btScalar(kSleepAfter);
     gCompoundChildShapePairCallback = childrenCollide;
     gCompoundCompoundChildShapePairCallback = childrenCollide;
-    Simulation simulation(pieces, bonds, settings, shapes);
-    return simulation.run(progress);
+    SimulationResult result = Simulation(pieces, bonds, settings, shapes).run(progress);
+    addDust(pieces, bonds, settings, result);  // before the chips: it reads the pieces' motion alone
+    if (settings.debris.chips) moveChips(pieces, emitChips(pieces, bonds, result, settings), settings, result);
+    return result;
 }
 
 }  // namespace dawnforge::sim

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -60,12 +61,12 @@ std::vector<float> readFloats(const fs::path& file, int frames, std::int64_t pie
     return values;
 }
 
-// DIR/fragments.glb's meshes, one per piece in order, relative to each pivot, world axes.
+// The meshes of `glb` (a folder's fragments.glb or debris.glb), one per piece in order,
+// relative to each pivot, world axes.
 // The nodes must be the pieces `names` in order, each at its pivot within float rounding;
 // `source` is the file that lists them.
-std::vector<Mesh> loadFragments(const fs::path& dir, std::span<const std::string> names,
+std::vector<Mesh> loadFragments(const fs::path& glb, std::span<const std::string> names,
                                 std::span<const glm::dvec3> pivots, const fs::path& source, std::string_view what) {
-    const fs::path glb = dir / "fragments.glb";
     std::error_code ec;
     if (!fs::is_regular_file(glb, ec))
         throw InputError(format("{}: no such file (the {} folder is incomplete)", glb.string(), what));
@@ -110,7 +111,48 @@ glm::dvec3 vec3(const nlohmann::json& j, const char* key, const fs::path& file) 
 
 nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
+// sim.json's debris.chips: how many of the last pieces are chips (0 for a folder from before debris).
+std::size_t debrisChips(const nlohmann::json& j, std::size_t pieces, const fs::path& file) {
+    if (!j.contains("debris")) return 0;
+    const auto chips = get<std::int64_t>(get<nlohmann::json>(j, "debris", file), "chips", file);
+    if (chips < 0 || std::size_t(chips) >= pieces)
+        throw InputError(format("{}: debris.chips is {}, but there are {} pieces in all", file.string(), chips, pieces));
+    return std::size_t(chips);
+}
+
+// DIR/dust.bin when sim.json's debris.dust counts puffs: each value finite, sizes and
+// opacities in range.
+void loadDust(const fs::path& dir, const nlohmann::json& j, SimulationFolder& out) {
+    if (!j.contains("debris") || !j["debris"].contains("dust")) return;
+    const fs::path jsonFile = dir / "sim.json", bin = dir / "dust.bin";
+    const auto puffs = get<std::int64_t>(j["debris"]["dust"], "puffs", jsonFile);
+    if (puffs < 0) throw InputError(format("{}: debris.dust.puffs is negative", jsonFile.string()));
+    if (puffs == 0) return;
+    std::error_code ec;
+    if (!fs::is_regular_file(bin, ec)) throw InputError(format("{}: no such file (sim.json counts {} puffs of dust)", bin.string(), puffs));
+    out.dust = readFloats(bin, out.frames, puffs, 5);
+    for (std::size_t v = 0; v < out.dust.size(); v += 5) {
+        const bool finite = std::all_of(out.dust.begin() + std::ptrdiff_t(v), out.dust.begin() + std::ptrdiff_t(v + 5),
+                                        [](float x) { return std::isfinite(x); });
+        if (!finite || out.dust[v + 3] < 0.0f || out.dust[v + 4] < 0.0f || out.dust[v + 4] > 1.0f)
+            throw InputError(format("{}: puff {} at frame {} is not a place, a size ≥ 0 and an opacity in [0, 1]",
+                                    bin.string(), (v / 5) % std::size_t(puffs), v / 5 / std::size_t(puffs)));
+    }
+    out.dustPuffs = std::size_t(puffs);
+}
+
 }  // namespace
+
+Scene debrisScene(const SimulationResult& result) {
+    Scene scene;
+    for (const RigidPiece& chip : result.chips) {
+        const std::uint32_t node = scene.addMeshNode(chip.mesh, glm::vec3(chip.centerOfMass));
+        scene.nodes[node].name = chip.name;
+        scene.nodes[node].extrasJson = nlohmann::ordered_json{{"mass", chip.mass}}.dump();
+    }
+    scene.extrasJson = nlohmann::ordered_json{{"generator", "dawnforge simulate"}, {"chips", result.chips.size()}}.dump();
+    return scene;
+}
 
 FractureFolder loadFracture(const fs::path& dir) {
     std::error_code ec;
@@ -160,6 +202,10 @@ FractureFolder loadFracture(const fs::path& dir) {
         bond.area = get<double>(b, "area", jsonFile);
         bond.centroid = b.contains("centroid") ? vec3(b, "centroid", jsonFile)
                                                : 0.5 * (out.pieces[bond.a].centerOfMass + out.pieces[bond.b].centerOfMass);
+        const glm::dvec3 across = out.pieces[bond.b].centerOfMass - out.pieces[bond.a].centerOfMass;
+        bond.normal = b.contains("normal") ? vec3(b, "normal", jsonFile) : across;
+        if (!(glm::length(bond.normal) > 0.0)) bond.normal = glm::dvec3(0.0, 1.0, 0.0);  // two pieces at one place
+        bond.normal = glm::normalize(bond.normal);
         if (!(bond.area >= 0.0)) throw InputError(format("{}: a bond has a negative area", jsonFile.string()));
         if (b.contains("strength")) bond.strength = get<double>(b, "strength", jsonFile);
         if (!(bond.strength >= 0.0) || !std::isfinite(bond.strength))
@@ -173,7 +219,7 @@ FractureFolder loadFracture(const fs::path& dir) {
         names.push_back(p.name);
         pivots.push_back(p.centerOfMass);
     }
-    std::vector<Mesh> meshes = loadFragments(dir, names, pivots, jsonFile, "fracture");
+    std::vector<Mesh> meshes = loadFragments(dir / "fragments.glb", names, pivots, jsonFile, "fracture");
     for (std::size_t i = 0; i < meshes.size(); ++i) out.pieces[i].mesh = std::move(meshes[i]);
     return out;
 }
@@ -238,8 +284,28 @@ std::string simulationJson(const SimulationResult& result, const SimulationSetti
                        {"layout", "float32 little-endian, frame-major, per piece px py pz qx qy qz qw"}};
     j["turns"] = {{"file", "turns.bin"},
                   {"layout", "float32 little-endian, frame-major, per piece the signed turns to the next frame"}};
+    const DebrisSettings& d = settings.debris;
+    j["debris"] = {{"chips", result.chips.size()},
+                   {"file", result.chips.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json("debris.glb")},
+                   {"first_chip", result.pieces - result.chips.size()},
+                   {"bonds", result.chipBonds},
+                   {"enabled", d.chips},
+                   {"per_square_metre", d.chipsPerSquareMetre},
+                   {"max_per_bond", d.maxChipsPerBond},
+                   {"max", d.maxChips},
+                   {"size", d.chipSize},
+                   {"spray_speed", d.spraySpeed},
+                   {"dust", {{"puffs", result.dustPuffs},
+                             {"file", result.dustPuffs == 0 ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json("dust.bin")},
+                             {"layout", "float32 little-endian, frame-major, per puff x y z size opacity"},
+                             {"enabled", d.dust},
+                             {"per_square_metre", d.puffsPerSquareMetre},
+                             {"max", d.maxPuffs},
+                             {"size", d.puffSize},
+                             {"life", d.puffLife}}}};
     nlohmann::ordered_json names = nlohmann::ordered_json::array();
     for (const RigidPiece& p : pieces) names.push_back(p.name);
+    for (const RigidPiece& p : result.chips) names.push_back(p.name);
     j["piece_names"] = std::move(names);
     return j.dump(1) + "\n";
 }
@@ -249,6 +315,8 @@ void writeSimulation(const fs::path& dir, const SimulationResult& result, const 
     ensureOutputDirectory(dir);
     writeFileAtomically(dir / "transforms.bin", std::as_bytes(std::span<const float>(result.transforms)));
     writeFileAtomically(dir / "turns.bin", std::as_bytes(std::span<const float>(result.turns)));
+    if (result.dustPuffs > 0) writeFileAtomically(dir / "dust.bin", std::as_bytes(std::span<const float>(result.dust)));
+    else fs::remove(dir / "dust.bin");  // an earlier run's, which sim.json no longer counts
     writeFileAtomically(dir / "sim.json", simulationJson(result, settings, pieces, fractureDir));
 }
 
@@ -291,7 +359,19 @@ SimulationFolder loadSimulation(const fs::path& dir) {
     }
     std::vector<glm::dvec3> rest;  // frame 0: where each piece's pivot starts
     for (std::size_t i = 0; i < out.names.size(); ++i) rest.push_back(glm::dvec3(out.transforms[i * 7], out.transforms[i * 7 + 1], out.transforms[i * 7 + 2]));
-    out.meshes = loadFragments(dir, out.names, rest, jsonFile, "simulation");
+    const std::size_t chips = debrisChips(j, out.names.size(), jsonFile);
+    const std::size_t first = out.names.size() - chips;
+    const auto part = [](const auto& all, std::size_t from, std::size_t count) {
+        return std::span(all).subspan(from, count);
+    };
+    out.meshes = loadFragments(dir / "fragments.glb", part(out.names, 0, first), part(rest, 0, first), jsonFile, "simulation");
+    if (chips > 0) {
+        std::vector<Mesh> debris = loadFragments(dir / "debris.glb", part(out.names, first, chips), part(rest, first, chips),
+                                                 jsonFile, "simulation");
+        std::move(debris.begin(), debris.end(), std::back_inserter(out.meshes));
+    }
+    out.chips = chips;
+    loadDust(dir, j, out);
     return out;
 }
 

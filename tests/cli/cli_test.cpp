@@ -149,7 +149,12 @@ TEST(Cli, EveryHelpDefaultIsTheLibrarysDefault) {
           {"--projectile-speed", shown(p.speed)}, {"--projectile-radius", shown(p.radius)},
           {"--explosion-radius", shown(e.radius)}, {"--explosion-speed", shown(e.speed)},
           {"--impact-time", shown(s.impactTime)}, {"--damage-transmission", shown(s.damageTransmission)},
-          {"--damage-hops", shown(s.damageHops)}, {"--damage-half-life", shown(s.damageHalfLife)}, {"--threads", "0"}}},
+          {"--damage-hops", shown(s.damageHops)}, {"--damage-half-life", shown(s.damageHalfLife)},
+          {"--chips-per-m2", shown(s.debris.chipsPerSquareMetre)}, {"--chips-per-bond", shown(s.debris.maxChipsPerBond)},
+          {"--max-chips", shown(double(s.debris.maxChips))}, {"--chip-size", shown(s.debris.chipSize)},
+          {"--spray-speed", shown(s.debris.spraySpeed)}, {"--puffs-per-m2", shown(s.debris.puffsPerSquareMetre)},
+          {"--max-puffs", shown(double(s.debris.maxPuffs))}, {"--puff-size", shown(s.debris.puffSize)},
+          {"--puff-life", shown(s.debris.puffLife)}, {"--threads", "0"}}},
         {"vat",
          {{"--preset", std::string(exporters::vatPresetName(v.preset))},
           {"--format", std::string(exporters::vatFormatName(v.format))}, {"--max-width", shown(v.maxWidth)},
@@ -324,6 +329,14 @@ TEST(Cli, DemoWritesAValidSceneDeterministically) {
     }
     EXPECT_EQ(occurrences(text, "http"), occurrences(text, "xmlns=\"http://www.w3.org/2000/svg\""));
     EXPECT_EQ(occurrences(report, "<script"), 0u);
+    // The hit throws chips and dust: sim.json counts them, the VATs carry them, the report says so.
+    const nlohmann::json debris = nlohmann::json::parse(test::readText(dir / "a" / "sim" / "sim.json"))["debris"];
+    const std::size_t chips = debris["chips"].get<std::size_t>(), puffs = debris["dust"]["puffs"].get<std::size_t>();
+    EXPECT_GT(chips, 50u);
+    EXPECT_GT(puffs, 20u);
+    EXPECT_TRUE(std::filesystem::exists(dir / "a" / "vat" / "building_native_dust.exr"));
+    EXPECT_NE(report.find(format("{} chips of debris", chips)), std::string::npos);
+    EXPECT_NE(report.find(format("{} puffs of dust", puffs)), std::string::npos);
     if (DAWNFORGE_SANITIZED) return;
     const RunResult b = demo("b", true);
     ASSERT_EQ(b.exitCode, 0) << b.err;
@@ -504,7 +517,7 @@ TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
     makeFractureFolder(dir);
     const RunResult r = test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", (dir / "sim").string(),
                                             "--frames", "40", "--fps", "24", "--projectile", "2,1.5,0",
-                                            "--projectile-mass", "3000", "--projectile-radius", "0.5"});
+                                            "--projectile-mass", "3000", "--projectile-radius", "0.5", "--no-debris"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(dir.entries(), (std::vector<std::string>{"block.obj", "fracture", "sim"}));
     const nlohmann::json j = nlohmann::json::parse(test::readText(dir / "sim" / "sim.json"));
@@ -528,6 +541,52 @@ TEST(CliSimulate, WritesTransformsThatMatchSimJson) {
         EXPECT_EQ(t[i * 7 + 6], 1.0f);
     }
     EXPECT_EQ(test::readBytes(dir / "sim" / "fragments.glb"), test::readBytes(dir / "fracture" / "fragments.glb"));
+}
+
+// Chips where bonds broke: debris.glb beside the copy of fragments.glb, named in sim.json after
+// the pieces; vat and anim play them as pieces; dust in dust.bin, which vat bakes beside them.
+// --no-debris and --no-dust write none and take away an earlier run's.
+TEST(CliSimulate, ChipsAndDustWhereBondsBrokeThatVatAndAnimPlay) {
+    TempDir dir;
+    makeSimulationFolder(dir, "30", {"--collapse"});
+    const std::filesystem::path sim = dir / "sim";
+    nlohmann::json j = nlohmann::json::parse(test::readText(sim / "sim.json"));
+    const std::size_t chips = j["debris"]["chips"].get<std::size_t>();
+    ASSERT_GT(chips, 0u);
+    EXPECT_EQ(j["pieces"].get<std::size_t>(), 12 + chips);
+    EXPECT_EQ(j["debris"]["first_chip"], 12);
+    EXPECT_EQ(j["debris"]["file"], "debris.glb");
+    EXPECT_GT(j["debris"]["bonds"].get<int>(), 0);
+    ASSERT_EQ(j["piece_names"].size(), 12 + chips);
+    EXPECT_TRUE(j["piece_names"][12].get<std::string>().starts_with("chip_0")) << j["piece_names"][12];
+    EXPECT_EQ(test::readBytes(sim / "transforms.bin").size(), 30 * (12 + chips) * 7 * 4);
+    test::expectValidGltf(sim / "debris.glb");
+    EXPECT_EQ(test::readBytes(sim / "fragments.glb"), test::readBytes(dir / "fracture" / "fragments.glb"));
+
+    const std::size_t puffs = j["debris"]["dust"]["puffs"].get<std::size_t>();
+    ASSERT_GT(puffs, 0u);
+    EXPECT_EQ(j["debris"]["dust"]["file"], "dust.bin");
+    EXPECT_EQ(test::readBytes(sim / "dust.bin").size(), 30 * puffs * 5 * 4);
+
+    ASSERT_EQ(test::runDawnforge({"vat", sim.string(), "-o", (dir / "vat").string()}).exitCode, 0);
+    const nlohmann::json vat = nlohmann::json::parse(test::readText(dir / "vat" / "vat_data.json"));
+    EXPECT_EQ(vat["pieces"].get<std::size_t>(), 12 + chips);
+    EXPECT_EQ(vat["dust"]["puffs"].get<std::size_t>(), puffs);
+    EXPECT_EQ(vat["dust"]["file"], "vat_dust.exr");
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir / "vat" / "vat_dust.exr"));
+    ASSERT_EQ(test::runDawnforge({"anim", sim.string(), "-o", (dir / "sim.glb").string()}).exitCode, 0);
+    test::expectValidGltf(dir / "sim.glb");
+
+    const RunResult plain = test::runDawnforge({"simulate", (dir / "fracture").string(), "-o", sim.string(), "--frames",
+                                                "30", "--collapse", "--no-debris", "--no-dust"});
+    ASSERT_EQ(plain.exitCode, 0) << plain.err;
+    j = nlohmann::json::parse(test::readText(sim / "sim.json"));
+    EXPECT_EQ(j["pieces"], 12);
+    EXPECT_EQ(j["debris"]["chips"], 0);
+    EXPECT_EQ(j["debris"]["dust"]["puffs"], 0);
+    EXPECT_FALSE(std::filesystem::exists(sim / "debris.glb"));
+    EXPECT_FALSE(std::filesystem::exists(sim / "dust.bin"));
+    EXPECT_EQ(test::readBytes(sim / "transforms.bin").size(), 30 * 12 * 7 * 4);
 }
 
 // --no-sleep keeps every body awake (Rigidbody.RubbleAtRestFallsAsleep tests what that changes)
@@ -605,7 +664,7 @@ TEST(CliSimulate, BadInputExits2AndWritesNothing) {
 
 TEST(CliVat, WritesTexturesMeshAndDataForEveryPreset) {
     TempDir dir;
-    makeSimulationFolder(dir, "20", {"--collapse"});
+    makeSimulationFolder(dir, "20", {"--collapse", "--no-debris"});
     for (const char* preset : {"native", "unreal", "unity"}) {
         const RunResult r = test::runDawnforge({"vat", (dir / "sim").string(), "-o", (dir / "vat").string(), "--preset",
                                                 preset, "--name", preset, "--max-width", "5"});
@@ -947,7 +1006,7 @@ TEST(CliRender, WritesThePictureAndItsPassTimes) {
         EXPECT_GE(p["cpu_ms"].get<double>(), 0.0);
     }
     EXPECT_EQ(passes,
-              (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "exposure", "flares", "tonemap", "readback"}));
+              (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "dust", "exposure", "flares", "tonemap", "readback"}));
     EXPECT_FALSE(stats.contains("probes")) << "probes are off by default";
     EXPECT_EQ(stats["ocean_vertices"], 64 * 48);
     EXPECT_GT(stats["triangles"].get<int>(), 1000);

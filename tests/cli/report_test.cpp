@@ -155,6 +155,16 @@ TEST(Report, ReadMotionRefusesFilesThatDisagree) {
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { report::readMotion(dir / "sim", dir / "fracture"); }), "bytes, expected"));
     test::writeText(dir / "sim" / "sim.json", nlohmann::json{{"frames", 10}, {"fps", 30.0}, {"pieces", 3}}.dump());
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { report::readMotion(dir / "sim", dir / "fracture"); }), "do not match"));
+    // A third "piece" that is a chip of debris: the fracture's two are read, the chip's values skipped.
+    test::writeText(dir / "sim" / "sim.json",
+                    nlohmann::json{{"frames", 10}, {"fps", 30.0}, {"pieces", 3}, {"debris", {{"chips", 1}}}}.dump());
+    std::vector<float> three;
+    for (int k = 0; k < 10; ++k) {
+        three.insert(three.end(), t.begin() + k * 14, t.begin() + (k + 1) * 14);
+        three.insert(three.end(), {1e6f, 1e6f, 1e6f, 0.0f, 0.0f, 0.0f, 1.0f});  // far up: it would dwarf the energy
+    }
+    test::writeText(dir / "sim" / "transforms.bin", std::string(reinterpret_cast<const char*>(three.data()), three.size() * 4));
+    EXPECT_NEAR(report::readMotion(dir / "sim", dir / "fracture").potential[0], 196.2, 1e-3);
     EXPECT_TRUE(test::contains(test::inputErrorOf([&] { report::readMotion(dir / "none", dir / "fracture"); }), "no such file"));
 }
 

@@ -314,7 +314,7 @@ TEST(Render, OceanWithAShore) {
     EXPECT_EQ(stats.oceanVertices, 96u * 80u);
     std::vector<std::string> names;
     for (const PassTime& p : stats.passes) names.push_back(p.name);
-    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "exposure", "flares",
+    EXPECT_EQ(names, (std::vector<std::string>{"shadow", "probes", "opaque", "destruction", "sky", "ocean", "dust", "exposure", "flares",
                                                  "tonemap", "readback"}));
 }
 

@@ -2,6 +2,7 @@
 // contact with the ground, glue that holds until something breaks it, triggers, stability
 // (no NaN, no tunnelling, no energy gain) over many seeds, and determinism.
 #include "test_support.hpp"
+#include "tower_fixture.hpp"
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/primitives.hpp>
@@ -62,17 +63,7 @@ double maxDisplacement(const SimulationResult& r, int frame) {
     return d;
 }
 
-// A small tower (3 storeys, 6 × 5 m) in 14 glued pieces, standing on y = 0.
-const FractureResult& smallTower() {
-    static const FractureResult result = [] {
-        FractureSettings s;
-        s.pieces = 14;
-        s.seed = 5;
-        s.density = 300.0;
-        return fractureMesh(makeTower(3, 3.0f, 6.0f, 5.0f), s);
-    }();
-    return result;
-}
+using test::smallTower;
 
 }  // namespace
 

@@ -76,6 +76,10 @@ struct VatAnimation {
     // simulated path (the simulation's turns.bin). Empty: the shortest way between poses,
     // which cannot show more than half a turn per frame.
     std::span<const float> turns = {};
+    // Optional: frames × dustPuffs × (x y z size opacity), the simulation's dust.bin, baked
+    // beside the pieces into <name>_dust.exr (HDR only).
+    std::span<const float> dust = {};
+    std::size_t dustPuffs = 0;
 };
 
 struct Vat {
@@ -93,6 +97,10 @@ struct Vat {
     double maxScaleError = 0.0;     // Ldr: |decoded piece scale − 1| (8-bit position alpha)
     double maxVertexError = 0.0;    // m, bound on any vertex (position + rotation × piece radius)
     std::string dataJson;           // <name>_data.json
+    // Dust (vat_dust.cpp): RGBA per texel, the pieces' layout for the puffs over 2 × frames
+    // (centre and size, then opacity); empty without dust.
+    VatLayout dustLayout;
+    std::vector<float> dust;
 };
 
 // Encodes `animation` (checked: piece count and transforms size agree, at least one frame,
@@ -100,8 +108,8 @@ struct Vat {
 Vat encodeVat(const VatAnimation& animation, const VatSettings& settings);
 
 // Writes DIR/<name>_pos.exr, <name>_rot.exr (OpenEXR, PIZ, RGBA float or half, row 0 at the
-// top; Ldr: <name>_pos.png, _pos2.png, _rot.png, 8-bit RGBA), <name>_mesh.glb and
-// <name>_data.json, each atomically.
+// top; Ldr: <name>_pos.png, _pos2.png, _rot.png, 8-bit RGBA), <name>_dust.exr when there is
+// dust, <name>_mesh.glb and <name>_data.json, each atomically.
 void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem::path& dir);
 
 }  // namespace dawnforge::exporters

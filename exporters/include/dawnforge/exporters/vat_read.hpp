@@ -24,9 +24,13 @@ struct VatFile {
     // degenerate data triangles of the Unity/Unreal presets are removed.
     Mesh mesh;
     glm::dvec3 boundsMin{0.0}, boundsMax{0.0};  // _data.json "bounds": engine axes and units
+    // <name>_dust.exr when _data.json's "dust" names it: `puffs` over 2 × frames (vat.hpp).
+    std::size_t dustPuffs = 0;
+    VatLayout dustLayout;
+    std::vector<float> dust;
 };
 
-// Reads DIR/<name>_{pos.exr,rot.exr,mesh.glb,data.json}. Throws InputError naming the file
+// Reads DIR/<name>_{pos.exr,rot.exr,mesh.glb,data.json} and _dust.exr when the data names it. Throws InputError naming the file
 // and the problem when a file is missing or unreadable; the JSON is not a dawnforge.vat;
 // W, R, height, frames and pieces disagree; an EXR is not W × height or lacks R, G, B, A;
 // the mesh's piece count is not "pieces", a vertex's lookup UV (TEXCOORD_1) is not the texel

@@ -7,6 +7,7 @@
 // transforms.
 #include <dawnforge/core/mesh.hpp>
 #include <dawnforge/core/progress.hpp>
+#include <dawnforge/sim/debris.hpp>
 #include <dawnforge/sim/fracture.hpp>
 
 #include <glm/mat3x3.hpp>
@@ -97,6 +98,7 @@ struct SimulationSettings {
     bool collapse = false;            // every bond breaks at the trigger time
     std::vector<Mesh> colliders;      // static triangle meshes, world space
     std::optional<Support> support;   // a floor under part of the scene (the colliders give way there)
+    DebrisSettings debris;            // chips where bonds break (off by default)
 };
 
 struct BondBreak {
@@ -129,6 +131,15 @@ struct SimulationResult {
     std::size_t fixedActors = 0;      // of which fixed
     std::size_t overlappingHulls = 0; // pairs of pieces whose hulls overlap at rest: they never collide
     std::vector<int> hullVertices;    // per piece, after simplification
+    // Debris (SimulationSettings::debris): chips emitted where bonds broke, after the pieces.
+    // `pieces`, `transforms` and `turns` count them: chips[k] is piece pieces - chips.size() + k.
+    // Each chip's mesh is relative to its pivot, which rests in its bond's crack at frame 0.
+    std::vector<RigidPiece> chips;
+    std::size_t chipBonds = 0;        // broken bonds that emitted chips
+    // Dust (SimulationSettings::debris.dust): frames × dustPuffs × (x y z size opacity): each
+    // puff's centre (m), diameter (m) and opacity (0 before it is emitted and once it has faded).
+    std::vector<float> dust;
+    std::size_t dustPuffs = 0;
 };
 
 // Simulates `pieces` glued by `bonds` (indices into pieces). Throws InputError on settings
