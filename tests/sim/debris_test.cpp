@@ -12,6 +12,7 @@
 #include <dawnforge/sim/mass_properties.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -121,7 +122,7 @@ TEST(Debris, ThePiecesMoveTheSameWithOrWithoutChips) {
 }
 
 // Until its bond breaks a chip rides in its parent (its place relative to it does not change);
-// then it flies out, never through the ground, and once the tower has settled nearly all have
+// then it flies out, tumbling no faster than 25 rad/s, never through the ground, and once the tower has settled nearly all have
 // come to rest.
 TEST(Debris, ChipsRideHiddenThenFlyOutAndComeToRestOnTheGround) {
     const std::vector<RigidPiece> pieces = rigidPieces(smallTower());
@@ -147,6 +148,13 @@ TEST(Debris, ChipsRideHiddenThenFlyOutAndComeToRestOnTheGround) {
         left += glm::length(parentEnd.x + parentEnd.q * offset - end.x) > 0.1;
         resting += glm::length(end.x - poseAt(r, r.frames - 2, n + k).x) < 0.005;
         for (int f = 0; f < r.frames; ++f) lowest = std::min(lowest, poseAt(r, f, n + k).x.y);
+        // Free, it tumbles at most 25 rad/s, and turns.bin holds at least the turn between frames.
+        for (int f = chip.releaseFrame; f + 1 < r.frames; ++f) {
+            const double turns = std::abs(r.turns[std::size_t(f) * r.pieces + n + k]);
+            const double net = std::acos(std::min(1.0, std::abs(glm::dot(poseAt(r, f, n + k).q, poseAt(r, f + 1, n + k).q)))) / glm::pi<double>();
+            EXPECT_LE(turns, 25.0 / s.fps / glm::two_pi<double>() + 1e-4) << chip.piece.name << " frame " << f;
+            EXPECT_GE(turns, net - 1e-3) << chip.piece.name << " frame " << f;  // float quaternions: 1e-4 turns of noise
+        }
     }
     std::size_t piecesResting = 0;
     for (std::size_t i = 0; i < n; ++i)
