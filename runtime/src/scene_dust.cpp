@@ -26,10 +26,7 @@ std::size_t SceneGpu::drawDust(double time, GLuint depth, glm::vec4 lens, FrameS
         }
         glBindTextureUnit(3, v.dust.id());
         glUniform4fv(1, 1, glm::value_ptr(v.dustLayout));
-        const double frame = std::clamp((time - v.startTime) * v.fps, 0.0, double(v.dustLayout.z) - 1.0);
-        glUniform1f(2, float(frame));
-        const glm::mat4 model = renderModel(v);
-        glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(model));
+        setPlayback(v, time);
         glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(v.dustLayout.w));
         stats.triangles += 2 * std::size_t(v.dustLayout.w);
         ++draws;

@@ -416,9 +416,14 @@ std::size_t SceneGpu::drawOpaque(glm::dvec3 camera, const glm::mat4& viewProj, d
     return draws;
 }
 
-glm::mat4 SceneGpu::renderModel(const Vat& v) const {
-    return glm::translate(glm::mat4(1.0f), glm::vec3(v.place - origin_)) *
-           glm::rotate(glm::mat4(1.0f), float(glm::radians(v.yawDegrees)), glm::vec3(0, 1, 0));
+// Uniforms 2 and 3 of vat.vert and dust.vert: the frame at scene time `time` ((time − start) ×
+// fps, clamped to the first and last frames) and the placement in render space (the
+// translation less the origin, in double).
+void SceneGpu::setPlayback(const Vat& v, double time) const {
+    glUniform1f(2, float(std::clamp((time - v.startTime) * v.fps, 0.0, double(v.layout.w) - 1.0)));
+    const glm::mat4 model = glm::translate(glm::mat4(1.0f), glm::vec3(v.place - origin_)) *
+                            glm::rotate(glm::mat4(1.0f), float(glm::radians(v.yawDegrees)), glm::vec3(0, 1, 0));
+    glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(model));
 }
 
 std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
@@ -434,10 +439,7 @@ std::size_t SceneGpu::drawVats(double time, bool depth, FrameStats* stats) {
         glBindTextureUnit(3, v.position.id());
         glBindTextureUnit(4, v.rotation.id());
         glUniform4fv(1, 1, glm::value_ptr(v.layout));
-        const double frame = std::clamp((time - v.startTime) * v.fps, 0.0, double(v.layout.w) - 1.0);
-        glUniform1f(2, float(frame));
-        const glm::mat4 model = renderModel(v);
-        glUniformMatrix4fv(3, 1, GL_FALSE, glm::value_ptr(model));
+        setPlayback(v, time);
         glDrawElements(GL_TRIANGLES, GLsizei(v.indexCount), GL_UNSIGNED_INT, nullptr);
         if (stats) stats->triangles += v.indexCount / 3;
         ++draws;

@@ -98,8 +98,8 @@ private:
     void renderOverlook();
     std::size_t drawVats(double time, bool depth, FrameStats* stats);
     glm::vec3 offsetOf(glm::dvec3 frame) const { return glm::vec3(frame - origin_); }
-    // A VAT's placement in render space: the translation less the origin, in double.
-    glm::mat4 renderModel(const Vat& v) const;
+    // The VAT's frame at scene time `time` and its placement, as vat.vert and dust.vert read them.
+    void setPlayback(const Vat& v, double time) const;
 
     CityPrograms programs_;
     IndirectDraws indirect_;

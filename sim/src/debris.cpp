@@ -102,12 +102,6 @@ Mesh octahedron(const glm::dvec3& radii, const glm::dquat& axes, std::uint8_t ma
     return mesh;
 }
 
-glm::dvec3 unitVector(Rng& rng) {
-    const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, glm::two_pi<double>());
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return {r * std::cos(phi), z, r * std::sin(phi)};
-}
-
 glm::dquat randomRotation(Rng& rng) {  // Shoemake's uniform quaternion
     const double u1 = rng.uniform(), u2 = rng.uniform(0.0, glm::two_pi<double>()), u3 = rng.uniform(0.0, glm::two_pi<double>());
     const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
@@ -152,7 +146,7 @@ public:
             chip.radii = 0.5 * size * glm::dvec3(rng.uniform(0.6, 1.0), rng.uniform(0.4, 0.8), rng.uniform(0.25, 0.6));
             chip.axes = randomRotation(rng);
             const glm::dvec3 place = bond.centroid + 0.25 * size * (rng.uniform(-1.0, 1.0) * t1 + rng.uniform(-1.0, 1.0) * t2);
-            const glm::dvec3 out2 = glm::normalize(unitVector(rng) + glm::dvec3(0.0, 0.5, 0.0));
+            const glm::dvec3 out2 = glm::normalize(randomUnitVector(rng) + glm::dvec3(0.0, 0.5, 0.0));
             chip.spray = d_.spraySpeed * rng.uniform(0.5, 1.5) * out2;
             chip.piece = chipPiece(chip, place, faceMaterial(pieces_[parent].mesh, place - pieces_[parent].centerOfMass),
                                    from.density);
@@ -173,8 +167,7 @@ private:
         piece.mesh = octahedron(r, chip.axes, material);
         piece.mass = density * 4.0 / 3.0 * r.x * r.y * r.z;
         piece.centerOfMass = place;
-        const glm::dvec3 moments = piece.mass / 10.0 * glm::dvec3(r.y * r.y + r.z * r.z, r.x * r.x + r.z * r.z,
-                                                                  r.x * r.x + r.y * r.y);
+        const glm::dvec3 moments = octahedronMoments(piece.mass, r);
         const glm::dmat3 axes = glm::mat3_cast(chip.axes);
         piece.inertia = axes * glm::dmat3(moments.x, 0, 0, 0, moments.y, 0, 0, 0, moments.z) * glm::transpose(axes);
         return piece;
@@ -197,6 +190,16 @@ std::uint8_t mainMaterial(const Mesh& mesh) {
         area[materialOf(mesh, t)] += glm::length(glm::cross(b - a, c - a));
     }
     return std::uint8_t(std::max_element(area.begin(), area.end()) - area.begin());
+}
+
+glm::dvec3 randomUnitVector(Rng& rng) {
+    const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, glm::two_pi<double>());
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {r * std::cos(phi), z, r * std::sin(phi)};
+}
+
+glm::dvec3 octahedronMoments(double mass, const glm::dvec3& r) {
+    return mass / 10.0 * glm::dvec3(r.y * r.y + r.z * r.z, r.x * r.x + r.z * r.z, r.x * r.x + r.y * r.y);
 }
 
 int releaseFrame(double time, const SimulationSettings& settings) {

@@ -1,6 +1,7 @@
 #pragma once
 // Debris (dawnforge/sim/debris.hpp): chips emitted where bonds broke (debris.cpp) and moved
 // among the simulated pieces (debris_motion.cpp, Bullet); dust (dust.cpp).
+#include <dawnforge/core/seed.hpp>
 #include <dawnforge/sim/rigidbody.hpp>
 
 #include <glm/gtc/quaternion.hpp>
@@ -22,6 +23,12 @@ struct ChipSeed {
     int releaseFrame = 0;     // the frame from which it moves on its own (the first frame after its bond broke)
     glm::dvec3 spray{0.0};    // m/s, added at release to its parent's velocity at its place
 };
+
+// A direction uniform on the unit sphere.
+glm::dvec3 randomUnitVector(Rng& rng);
+
+// The principal moments of inertia of an octahedron of `mass` with vertices at ±radii: m (b² + c²) / 10, ...
+glm::dvec3 octahedronMoments(double mass, const glm::dvec3& radii);
 
 // The material with the most area on a piece's surface: what it is made of.
 std::uint8_t mainMaterial(const Mesh& mesh);

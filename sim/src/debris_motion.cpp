@@ -28,13 +28,13 @@ namespace {
 
 // What a body is (user index 2); its user index is its piece or chip.
 enum Kind : int { kGround = 0, kSupportPlane = 1, kCollider = 2, kPiece = 3, kChip = 4 };
-constexpr int kChipGroup = 64;
+constexpr int kChipGroup = 64;  // a broadphase collision filter group Bullet does not use
 // A piece that never moves more than this (m, or quaternion component) is static: a standing
 // building's pieces shift by float rounding as its actors are remade.
 constexpr float kStill = 1e-4f;
 // A piece that moves less than this in a frame (m, or quaternion component: 1 mm, 0.1°) sleeps
 // through it: rubble creeping at 3 cm/s would keep every chip on it awake to the last frame.
-constexpr double kCreep = 1e-3;  // a broadphase collision filter group Bullet does not use
+constexpr double kCreep = 1e-3;
 
 // A chip knocked by a piece many times its mass would spin at hundreds of radians a second: none
 // spins faster than kChipSpin, four turns a second, which still reads as a tumble.
@@ -60,12 +60,9 @@ public:
             const int kind = b->getUserIndex2();
             if (kind == kPiece && (std::uint32_t(b->getUserIndex()) == chip.parent || std::uint32_t(b->getUserIndex()) == chip.other))
                 return false;
-            if (support && (kind == kSupportPlane || kind == kCollider)) {
-                const btVector3& p = a->getWorldTransform().getOrigin();
-                const bool over = p.x() >= support->min.x && p.x() <= support->max.x && p.z() >= support->min.y &&
-                                  p.z() <= support->max.y;
-                if (over != (kind == kSupportPlane)) return false;  // the support holds it, or the colliders do
-            }
+            if (support && (kind == kSupportPlane || kind == kCollider) &&
+                overSupport(*support, a->getWorldTransform().getOrigin()) != (kind == kSupportPlane))
+                return false;  // the support holds it, or the colliders do
         }
         return btCollisionDispatcher::needsCollision(a, b);
     }
@@ -123,6 +120,10 @@ private:
         return {glm::dvec3(t[0], t[1], t[2]), glm::dquat(t[6], t[3], t[4], t[5])};
     }
     Pose chipPose(int frame, std::size_t k) const;
+    // A released chip's mesh orientation: its body's with its principal axes taken back out.
+    glm::dquat meshOrientation(std::size_t k) const {
+        return glm::normalize(toGlm(bodies_[k]->getCenterOfMassTransform().getRotation()) * glm::conjugate(chips_[k].axes));
+    }
     btRigidBody& add(std::unique_ptr<btCollisionShape> shape, const btRigidBody::btRigidBodyConstructionInfo& info,
                      Kind kind, int index);
     void addStatic();
@@ -138,9 +139,7 @@ private:
     const std::size_t n_;
     const double dt_;
     std::vector<std::unique_ptr<btCollisionShape>> shapes_;
-    std::vector<std::unique_ptr<btTriangleIndexVertexArray>> arrays_;
-    std::vector<std::vector<int>> indices_;
-    std::vector<std::vector<btScalar>> vertices_;
+    std::vector<std::unique_ptr<ColliderShape>> colliders_;  // their triangle arrays (the shapes are in shapes_)
     std::vector<std::unique_ptr<btDefaultMotionState>> motions_;
     std::vector<std::unique_ptr<btRigidBody>> owned_;
     std::vector<std::size_t> moving_;      // the pieces that move at some frame: kinematic bodies
@@ -182,15 +181,9 @@ void ChipWorld::addStatic() {
     if (s_.support) plane(s_.support->height, kSupportPlane);
     for (const Mesh& m : s_.colliders) {
         if (m.indices.empty()) continue;  // Bullet's BVH builder crashes on an empty mesh
-        auto& vertices = vertices_.emplace_back();
-        auto& indices = indices_.emplace_back(m.indices.begin(), m.indices.end());
-        for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
-        arrays_.push_back(std::make_unique<btTriangleIndexVertexArray>(int(indices.size() / 3), indices.data(),
-                                                                       int(3 * sizeof(int)), int(m.positions.size()),
-                                                                       vertices.data(), int(3 * sizeof(btScalar))));
-        auto shape = std::make_unique<btBvhTriangleMeshShape>(arrays_.back().get(), true);
-        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
-        add(std::move(shape), ci, kCollider, -1);
+        std::unique_ptr<ColliderShape>& c = colliders_.emplace_back(colliderShape(m));
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, c->shape.get());
+        add(std::move(c->shape), ci, kCollider, -1);
     }
 }
 
@@ -255,9 +248,8 @@ void ChipWorld::release(std::size_t k, int frame) {
                                           btVector3(0, 0, btScalar(r.z - margin)), btVector3(0, 0, btScalar(margin - r.z))};
     auto shape = std::make_unique<btConvexHullShape>(&points[0].x(), 6, int(sizeof(btVector3)));
     shape->setMargin(btScalar(margin));
-    const glm::dvec3 moments = chip.piece.mass / 10.0 * glm::dvec3(r.y * r.y + r.z * r.z, r.x * r.x + r.z * r.z,
-                                                                   r.x * r.x + r.y * r.y);
-    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(chip.piece.mass), nullptr, shape.get(), bt(moments));
+    btRigidBody::btRigidBodyConstructionInfo ci(btScalar(chip.piece.mass), nullptr, shape.get(),
+                                                bt(octahedronMoments(chip.piece.mass, r)));
     ci.m_startWorldTransform = btTransform(bt(glm::normalize(now.q * chip.axes)), bt(now.x));
     ci.m_linearDamping = btScalar(s_.linearDamping);
     ci.m_angularDamping = btScalar(s_.angularDamping);
@@ -273,10 +265,9 @@ void ChipWorld::release(std::size_t k, int frame) {
     travelled_[k] = 0.0;
 }
 
-
-// The pieces where they are `alpha` of the way from frame - 1 to `frame`.
-// An awake kinematic body keeps every chip it touches awake (Bullet's islands), and Bullet never
-// puts one to sleep itself: a piece sleeps while it creeps (kCreep) and wakes when it moves again.
+// The pieces where they are `alpha` of the way from frame - 1 to `frame`. An awake kinematic
+// body keeps every chip it touches awake (Bullet's islands), and Bullet never puts one to sleep
+// itself: a piece sleeps while it creeps (kCreep) and wakes when it moves again.
 void ChipWorld::moveKinematic(int frame, double alpha) {
     for (std::size_t k = 0; k < moving_.size(); ++k) {
         const std::size_t i = moving_[k];
@@ -298,10 +289,9 @@ void ChipWorld::record(int frame, float* transforms, float* turns) {
         double turned = frame > 0 ? double(r_.turns[std::size_t(frame - 1) * n_ + chips_[k].parent]) : 0.0;
         if (bodies_[k]) {
             const btTransform& t = bodies_[k]->getCenterOfMassTransform();
-            p = {toGlm(t.getOrigin()), glm::normalize(toGlm(t.getRotation()) * glm::conjugate(chips_[k].axes))};
+            p = {toGlm(t.getOrigin()), meshOrientation(k)};
             if (p.q.w < 0.0) p.q = -p.q;
-            const double turns = travelled_[k] / glm::two_pi<double>();
-            turned = glm::dot(path_[k], p.q) < 0.0 ? -turns : turns;
+            turned = signedTurns(travelled_[k], path_[k], p.q);
             path_[k] = p.q;
             travelled_[k] = 0.0;
         }
@@ -321,15 +311,8 @@ std::pair<std::vector<float>, std::vector<float>> ChipWorld::run() {
         for (int step = 1; step <= s_.substeps; ++step) {
             moveKinematic(frame, double(step) / s_.substeps);
             world_->stepSimulation(btScalar(dt_), 0, btScalar(dt_));
-            for (std::size_t k = 0; k < c; ++k) {
-                if (!bodies_[k]) continue;
-                glm::dquat q = glm::normalize(toGlm(bodies_[k]->getCenterOfMassTransform().getRotation()) *
-                                              glm::conjugate(chips_[k].axes));
-                const double d = glm::dot(q, path_[k]);
-                if (d < 0.0) q = -q;
-                travelled_[k] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
-                path_[k] = q;
-            }
+            for (std::size_t k = 0; k < c; ++k)
+                if (bodies_[k]) travelled_[k] += followTurn(path_[k], meshOrientation(k));
         }
         record(frame, transforms.data() + std::size_t(frame) * c * 7, turns.data() + std::size_t(frame - 1) * c);
     }

@@ -48,12 +48,6 @@ struct Puff {
     double life = 0.0;        // s
 };
 
-glm::dvec3 randomUnit(Rng& rng) {
-    const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, 6.283185307179586);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return {r * std::cos(phi), z, r * std::sin(phi)};
-}
-
 // A point carried by `piece` from its rest place, at `frame`.
 glm::dvec3 carried(const SimulationResult& r, std::span<const RigidPiece> pieces, std::size_t piece, int frame,
                    const glm::dvec3& rest) {
@@ -84,9 +78,9 @@ std::vector<Puff> emitPuffs(std::span<const RigidPiece> pieces, std::span<const 
             Puff p;
             p.born = born;
             p.size = d.puffSize * rng.uniform(0.7, 1.3);
-            p.start = here + 0.25 * p.size * randomUnit(rng);
+            p.start = here + 0.25 * p.size * randomUnitVector(rng);
             const double side = rng.uniform() < 0.5 ? -1.0 : 1.0;
-            p.velocity = 0.4 * (here - before) * s.fps + 0.6 * randomUnit(rng) + kBillow * side * bond.normal +
+            p.velocity = 0.4 * (here - before) * s.fps + 0.6 * randomUnitVector(rng) + kBillow * side * bond.normal +
                          glm::dvec3(0.0, 0.4, 0.0);
             p.life = d.puffLife * rng.uniform(0.7, 1.3);
             puffs.push_back(p);

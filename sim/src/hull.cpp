@@ -48,4 +48,15 @@ Hull buildHull(const RigidPiece& piece, const glm::dmat3& axes, int budget, doub
     return hull;
 }
 
+std::unique_ptr<ColliderShape> colliderShape(const Mesh& mesh) {
+    auto c = std::make_unique<ColliderShape>();
+    c->indices.assign(mesh.indices.begin(), mesh.indices.end());
+    for (const glm::vec3& v : mesh.positions) c->vertices.insert(c->vertices.end(), {v.x, v.y, v.z});
+    c->array = std::make_unique<btTriangleIndexVertexArray>(int(c->indices.size() / 3), c->indices.data(),
+                                                            int(3 * sizeof(int)), int(mesh.positions.size()),
+                                                            c->vertices.data(), int(3 * sizeof(btScalar)));
+    c->shape = std::make_unique<btBvhTriangleMeshShape>(c->array.get(), true);
+    return c;
+}
+
 }  // namespace dawnforge::sim

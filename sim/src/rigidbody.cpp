@@ -88,9 +88,7 @@ public:
         if (support && (i == kSupport || j == kSupport || i == kCollider || j == kCollider)) {
             const btCollisionObject* actor = i >= 0 ? a : j >= 0 ? b : nullptr;
             if (actor) {
-                const btVector3& p = actor->getWorldTransform().getOrigin();
-                const bool over = p.x() >= support->min.x && p.x() <= support->max.x && p.z() >= support->min.y &&
-                                  p.z() <= support->max.y;
+                const bool over = overSupport(*support, actor->getWorldTransform().getOrigin());
                 if (over != (i == kSupport || j == kSupport)) return false;  // the support holds it, or the colliders do
             }
         }
@@ -126,9 +124,7 @@ public:
 struct World {
     std::vector<std::unique_ptr<btConvexHullShape>> hulls;  // per piece
     std::vector<std::unique_ptr<btCollisionShape>> shapes;  // of the other bodies
-    std::vector<std::unique_ptr<btTriangleIndexVertexArray>> triangleArrays;
-    std::vector<std::vector<int>> colliderIndices;
-    std::vector<std::vector<btScalar>> colliderVertices;
+    std::vector<std::unique_ptr<ColliderShape>> colliders;  // their triangle arrays (the shapes are in `shapes`)
     std::vector<std::unique_ptr<btRigidBody>> bodies;        // ground, support, colliders, projectile
     std::vector<std::unique_ptr<btCompoundShape>> compounds;  // per actor; null for a lone piece
     std::vector<std::unique_ptr<btRigidBody>> actors;         // per actor; null once it has split
@@ -707,17 +703,10 @@ void Simulation::addGroundAndColliders() {
     }
     for (const Mesh& m : settings_.colliders) {
         if (m.indices.empty()) continue;  // Bullet's BVH builder crashes on an empty mesh
-        auto& vertices = w_.colliderVertices.emplace_back();
-        auto& indices = w_.colliderIndices.emplace_back(m.indices.begin(), m.indices.end());
-        for (const glm::vec3& v : m.positions) vertices.insert(vertices.end(), {v.x, v.y, v.z});
-        auto array = std::make_unique<btTriangleIndexVertexArray>(int(indices.size() / 3), indices.data(),
-                                                                  int(3 * sizeof(int)), int(m.positions.size()),
-                                                                  vertices.data(), int(3 * sizeof(btScalar)));
-        auto shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
-        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, shape.get());
+        std::unique_ptr<ColliderShape>& c = w_.colliders.emplace_back(colliderShape(m));
+        btRigidBody::btRigidBodyConstructionInfo ci(0, nullptr, c->shape.get());
         ci.m_friction = btScalar(settings_.friction);
-        w_.triangleArrays.push_back(std::move(array));
-        addBody(std::make_unique<btRigidBody>(ci), std::move(shape)).setUserIndex(kCollider);
+        addBody(std::make_unique<btRigidBody>(ci), std::move(c->shape)).setUserIndex(kCollider);
     }
 }
 
@@ -856,13 +845,7 @@ void Simulation::advanceFrame() {
     }
     for (int s = 0; s < settings_.substeps; ++s) {
         step();
-        for (std::size_t i = 0; i < n_; ++i) {
-            glm::dquat q = meshOrientation(i);
-            const double d = glm::dot(q, path_[i]);
-            if (d < 0.0) q = -q;
-            travelled_[i] += 2.0 * std::acos(std::min(1.0, std::abs(d)));
-            path_[i] = q;
-        }
+        for (std::size_t i = 0; i < n_; ++i) travelled_[i] += followTurn(path_[i], meshOrientation(i));
     }
 }
 
@@ -887,10 +870,8 @@ void Simulation::record(int frame) {
 // The turns from frame - 1 to `frame`, negative when the path ends at the negated
 // orientation of what record() wrote.
 void Simulation::recordTurns(int frame) {
-    for (std::size_t i = 0; i < n_; ++i) {
-        const double turns = travelled_[i] / glm::two_pi<double>();
-        result_.turns[std::size_t(frame - 1) * n_ + i] = float(glm::dot(path_[i], recorded_[i]) < 0.0 ? -turns : turns);
-    }
+    for (std::size_t i = 0; i < n_; ++i)
+        result_.turns[std::size_t(frame - 1) * n_ + i] = signedTurns(travelled_[i], path_[i], recorded_[i]);
 }
 
 // The model of the bond graph at rest: pieces at their rest centres of mass, the held ones
