@@ -36,12 +36,12 @@ using vat_codec::unpack;
 using vat_codec::orientation;
 using vat_codec::PackedRotation;
 using vat_codec::position;
+using vat_codec::store;
 
 constexpr double kPi = 3.14159265358979323846;
 // The most rows per frame whose hundreds the Labs bound code can count (the HDA's own limit).
 constexpr int kLabsMaxRowsPerFrame = 1980;
 
-float store(double v, bool half) { return half ? float(Imath::half(float(v))) : float(v); }
 
 nlohmann::ordered_json vec(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 

@@ -3,6 +3,7 @@
 // preset, the Labs quaternion packing and its inverse, and the transforms' accessors.
 #include <dawnforge/exporters/vat.hpp>
 
+#include <Imath/half.h>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 
@@ -42,6 +43,9 @@ inline glm::dvec3 position(std::span<const float> transforms, std::size_t index)
     const float* t = transforms.data() + index * 7;
     return {t[0], t[1], t[2]};
 }
+
+// A texel value as the HDR textures store it: rounded to half with --half.
+inline float store(double v, bool half) { return half ? float(Imath::half(float(v))) : float(v); }
 
 // Where piece j's texel of frame k starts in an RGBA texture.
 inline std::size_t texelOffset(const VatLayout& L, std::size_t j, int k) {

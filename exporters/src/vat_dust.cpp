@@ -10,18 +10,10 @@
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/format.hpp>
 
-#include <Imath/half.h>
-
 #include <algorithm>
 #include <cmath>
 
 namespace dawnforge::exporters::vat_codec {
-
-namespace {
-
-float store(double v, bool half) { return half ? float(Imath::half(float(v))) : float(v); }
-
-}  // namespace
 
 void encodeDust(Vat& vat, const VatAnimation& animation, const Engine& engine, const VatSettings& settings) {
     const std::size_t puffs = animation.dustPuffs;

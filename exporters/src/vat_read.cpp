@@ -244,8 +244,9 @@ void readDust(const std::filesystem::path& dir, const Json& root, const std::str
     if (!name.is_string() || name.get<std::string>().find('/') != std::string::npos)
         throw InputError(format("{}: \"dust.file\" must be a file name beside it", file));
     const std::size_t puffs = std::size_t(integer(d, "puffs", file, 1, std::int64_t(kVatMaxTextureSize) * kVatMaxTextureSize));
-    VatLayout L = vatLayout(puffs, 2 * vat.layout.frames, int(integer(d, "W", file, 1, kVatMaxTextureSize)));
-    if (L.width != integer(d, "W", file, 1, kVatMaxTextureSize) || L.height != integer(d, "height", file, 1, kVatMaxTextureSize))
+    const int width = int(integer(d, "W", file, 1, kVatMaxTextureSize));
+    VatLayout L = vatLayout(puffs, 2 * vat.layout.frames, width);
+    if (L.width != width || L.height != integer(d, "height", file, 1, kVatMaxTextureSize))
         throw InputError(format("{}: \"dust\": W and height do not fit {} puffs over 2 × {} frames", file, puffs, vat.layout.frames));
     bool half = false;
     vat.dust = readExr(dir / name.get<std::string>(), L, half);
