@@ -109,7 +109,7 @@ void colourFaces(ProxyBox& box, const Mesh& m, const std::vector<std::uint32_t>&
         const double area = 0.5 * glm::length(c);
         if (area <= 0.0) continue;
         const glm::dvec3 n = c / (2.0 * area);
-        const glm::dvec3 colour(materialColour(materialOf(m, t)));
+        const glm::dvec3 colour(materialMeanColour(materialOf(m, t)));
         for (int f = 0; f < 6; ++f) {
             const double wgt = area * std::max(0.0, glm::dot(n, faces[f]));
             sum[f] += wgt * colour;
@@ -118,7 +118,7 @@ void colourFaces(ProxyBox& box, const Mesh& m, const std::vector<std::uint32_t>&
         all += area * colour;
         allWeight += area;
     }
-    const glm::dvec3 fallback = allWeight > 0.0 ? all / allWeight : glm::dvec3(materialColour(kConcrete));
+    const glm::dvec3 fallback = allWeight > 0.0 ? all / allWeight : glm::dvec3(materialMeanColour(kConcrete));
     for (int f = 0; f < 6; ++f) box.colours[std::size_t(f)] = glm::vec3(weight[f] > 1e-9 ? sum[f] / weight[f] : fallback);
 }
 
@@ -248,7 +248,7 @@ std::vector<ProxyBox> streetProxies(const std::string& cityJson, const std::stri
                 plan.lo = ua - glm::dvec2(0.0, 0.5 * width);
                 plan.hi = ua + glm::dvec2(length, 0.5 * width);
                 ProxyBox box = makeBox(name, int(i), "street", plan, -0.1, 0.0);
-                box.colours.fill(materialColour(kAsphalt));
+                box.colours.fill(materialMeanColour(kAsphalt));
                 out.push_back(std::move(box));
             }
         }

@@ -1,7 +1,7 @@
 #include "city_gpu.hpp"
 
 #include <dawnforge/core/read_file.hpp>
-#include <dawnforge/core/seed.hpp>
+#include <dawnforge/core/material_paint.hpp>
 #include <dawnforge/runtime/atlas.hpp>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -40,12 +40,8 @@ std::vector<std::uint8_t> halfLevel(const LightmapArray& l) {
 }  // namespace
 
 glm::uvec4 instanceBlocks(std::uint32_t id) {
-    const std::uint64_t h = deriveSeed(0x6174'6c61'7300ull, "atlas variant", id);
     glm::uvec4 blocks(0u);
-    for (int m = 0; m < kMaterials; ++m) {
-        const int variant = int((h >> (2 * m)) & 3u);
-        blocks[m / 4] |= encodeBlock(materialBlock(m, variant)) << (8 * (m % 4));
-    }
+    for (int m = 0; m < kMaterials; ++m) blocks[m / 4] |= encodeBlock(materialBlock(m, materialVariant(id, m))) << (8 * (m % 4));
     return blocks;
 }
 

@@ -1,7 +1,7 @@
 // Destruction pieces as capture boxes (piece_boxes.hpp).
 #include "piece_boxes.hpp"
 
-#include <dawnforge/bake/lighting.hpp>
+#include <dawnforge/core/materials.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -48,7 +48,7 @@ VatPieceBoxes::VatPieceBoxes(const exporters::VatFile& file, const glm::mat4& mo
         pieces_[j].centre = 0.5f * (lo[j] + hi[j]);
         pieces_[j].half = glm::max(0.5f * (hi[j] - lo[j]), glm::vec3(0.01f));
         const auto commonest = std::max_element(materials[j].begin(), materials[j].end()) - materials[j].begin();
-        pieces_[j].colour = bake::materialColour(std::uint8_t(commonest));
+        pieces_[j].colour = materialMeanColour(std::uint8_t(commonest));
     }
 }
 

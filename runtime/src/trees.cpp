@@ -3,7 +3,7 @@
 #include "city_gpu.hpp"
 #include "static_vertex.hpp"
 
-#include <dawnforge/runtime/leaves.hpp>
+#include <dawnforge/core/leaves.hpp>
 
 #include <glm/gtc/type_ptr.hpp>
 

@@ -131,7 +131,7 @@ TEST(AtlasLayout, MaterialBlocksAreDisjoint) {
 TEST(AtlasSampling, UvWrapsInsideTheInterior) {
     const AtlasBlock b = materialBlock(2, 1);
     const AtlasRect r = blockInterior(b);
-    const double tile = materialTileMetres(2);
+    const double tile = dawnforge::materialTileMetres(2);
     EXPECT_EQ(atlasUv(b, {0.0, 0.0}, tile), r.origin);
     EXPECT_EQ(atlasUv(b, {1.0, 0.5}, tile), r.origin + glm::dvec2(0.5, 0.25) * r.size);
     EXPECT_EQ(atlasUv(b, {-0.5, 2.0 * tile}, tile), r.origin + glm::dvec2(0.75, 0.0) * r.size);
@@ -140,7 +140,7 @@ TEST(AtlasSampling, UvWrapsInsideTheInterior) {
 
 TEST(AtlasSampling, LodFollowsTheUnwrappedGradient) {
     const AtlasBlock full = materialBlock(0, 0);
-    const double tile = materialTileMetres(0);
+    const double tile = dawnforge::materialTileMetres(0);
     const double metresPerTexel = tile / 480.0;
     EXPECT_DOUBLE_EQ(atlasLod(full, {metresPerTexel, 0}, {0, metresPerTexel}, tile), 0.0);
     EXPECT_NEAR(atlasLod(full, {4 * metresPerTexel, 0}, {0, metresPerTexel}, tile), 2.0, 1e-12);
@@ -150,7 +150,7 @@ TEST(AtlasSampling, LodFollowsTheUnwrappedGradient) {
     EXPECT_DOUBLE_EQ(atlasLod(full, {0, 0}, {0, 0}, tile), 0.0);
     // A half block packs the same tile into 224 texels: one level-0 texel is tile/224 metres.
     const AtlasBlock half = materialBlock(4, 2);
-    EXPECT_NEAR(atlasLod(half, {2 * materialTileMetres(4) / 224.0, 0}, {0, 0}, materialTileMetres(4)), 1.0, 1e-12);
+    EXPECT_NEAR(atlasLod(half, {2 * dawnforge::materialTileMetres(4) / 224.0, 0}, {0, 0}, dawnforge::materialTileMetres(4)), 1.0, 1e-12);
 }
 
 TEST(AtlasSampling, WrappedSamplesNeverReadOutsideTheirBlockAtAnyMip) {
@@ -158,7 +158,7 @@ TEST(AtlasSampling, WrappedSamplesNeverReadOutsideTheirBlockAtAnyMip) {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::uniform_int_distribution<int> kind(0, 5);
     for (const MaterialBlock& m : materialBlocks()) {
-        const double tile = materialTileMetres(m.material);
+        const double tile = dawnforge::materialTileMetres(m.material);
         const Texels cell = texels(blockCell(m.block));
         auto coordinate = [&]() {
             switch (kind(rng)) {
@@ -197,7 +197,7 @@ TEST(AtlasSampling, CounterCheckALongerMipChainWouldBleed) {
     // The property above is not vacuous: with the level clamp removed, a far-away sample
     // (lod 5 reads levels 5 and 6) at the interior's edge reads texels of the neighbouring cell.
     for (const MaterialBlock& m : materialBlocks()) {
-        const double tile = materialTileMetres(m.material);
+        const double tile = dawnforge::materialTileMetres(m.material);
         const Texels cell = texels(blockCell(m.block));
         const glm::dvec2 corner = atlasUv(m.block, {0.0, 0.0}, tile);
         EXPECT_TRUE(inside(sampleFootprint(corner, 5.0), cell));

@@ -1,11 +1,11 @@
 // The leaf cards' picture (leaves.hpp): what the tree shaders cut the cards out with.
-#include <dawnforge/runtime/leaves.hpp>
+#include <dawnforge/core/leaves.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-using namespace dawnforge::runtime;
+using namespace dawnforge;
 
 namespace {
 

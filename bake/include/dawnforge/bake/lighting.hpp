@@ -43,10 +43,8 @@ namespace dawnforge::bake {
 
 enum Channel : int { kSkyChannel = 0, kSunChannel = 1, kAoChannel = 2, kLampChannel = 3 };
 
-// Greyscale albedo (luminance of the runtime atlas's mean linear colour) per material ID.
+// Greyscale albedo (luminance of materialMeanColour, core/materials.hpp) per material ID.
 std::array<float, 16> defaultAlbedo();
-// Linear RGB mean colour of each material's atlas block (bricks and plaster: their four variants).
-glm::vec3 materialColour(std::uint8_t material);
 
 // The sun's unit direction (towards it) at `hours`, glTF axes: rises in the east (+x) at
 // 6:00, 55° high in the south (+z) at noon, sets in the west at 18:00 (runtime/src/sky.cpp).

@@ -2,7 +2,7 @@
 // proxies.json: flat-coloured boxes standing in for the city when irradiance probes capture it
 // (the seed talk's "flat-coloured proxies"). Each box is oriented (plan axes u and w, +y up) and
 // carries one linear RGB colour per face: the mean colour of the surfaces facing that side,
-// weighted by their area projected on it (materialColour() of each material).
+// weighted by their area projected on it (materialMeanColour() of each material, core/materials.hpp).
 //
 //   {"format": "dawnforge.proxies", "version": 1,
 //    "faces": ["+u", "-u", "+y", "-y", "+w", "-w"],

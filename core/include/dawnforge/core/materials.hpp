@@ -1,10 +1,13 @@
 #pragma once
 // The 16 material IDs of the project, named once: cities are generated with them, fracture
 // gives cut faces one of them, and the runtime's atlas has one block per ID in this order.
-// They travel in COLOR_0 as binary RGBA, id = R + 2G + 4B + 8A (mesh.hpp).
+// They travel in glTF files in the custom attribute _MATERIAL_ID, each material a glTF
+// material of its own (exporters/gltf.hpp).
 //
 // The shaders see the same names: cmake/EmbedShaders.cmake turns every "kName = N," line of
 // this enum into "const uint kName = Nu;" in the generated materials.glsl.
+#include <glm/vec3.hpp>
+
 #include <cstdint>
 
 namespace dawnforge {
@@ -30,5 +33,21 @@ enum Material : std::uint8_t {
 inline constexpr int kMaterialCount = 16;
 
 const char* materialName(std::uint8_t id);  // "asphalt", "paving", ..., "rubble"; id must be below 16
+
+// Metres one repeat of the material's tile covers, along both u and v (UVs are in metres).
+double materialTileMetres(int material);
+
+// The mean linear colour of the material's tile (material_paint.hpp; brick and plaster: the mean
+// of their four variants): what it looks like from afar, what the bake bounces light with.
+// tests/runtime/atlas_test.cpp recomputes them from the runtime's atlas and holds them to 0.005.
+glm::vec3 materialMeanColour(std::uint8_t id);
+
+// How a material's surface answers light in a glTF reader: metal-roughness and opacity.
+struct MaterialSurface {
+    float roughness = 1.0f;
+    float metallic = 0.0f;
+    float opacity = 1.0f;  // below 1: blended (window glass)
+};
+MaterialSurface materialSurface(std::uint8_t id);
 
 }  // namespace dawnforge

@@ -10,6 +10,8 @@
 // bilinear sample at level l reads at most half a level-l texel (2^(l-1) level-0 texels)
 // beyond the sample point, so level 4 reaches 8 of the 16 padding texels; all cells and
 // quadrants are aligned to 16 level-0 texels, so no level-1..4 texel straddles two blocks.
+#include <dawnforge/core/materials.hpp>  // materialTileMetres
+
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -42,9 +44,6 @@ struct AtlasRect {
 };
 AtlasRect blockInterior(AtlasBlock b);  // the usable interior the wrapped UV covers
 AtlasRect blockCell(AtlasBlock b);      // interior + padding: all texels a sample may read
-
-// Metres one repeat of the material's tile covers, along both u and v.
-double materialTileMetres(int material);
 
 // The block a material wears by default. Brick (slot 2) and plaster (slot 4) cells hold four
 // half-size colour variants chosen by `variant` (0..3); every other material is the full

@@ -1,5 +1,5 @@
 // The leaf picture (leaves.hpp): ellipses of leaves in a disc, drawn in a fixed order.
-#include <dawnforge/runtime/leaves.hpp>
+#include <dawnforge/core/leaves.hpp>
 
 #include <dawnforge/core/seed.hpp>
 
@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace dawnforge::runtime {
+namespace dawnforge {
 
 namespace {
 
@@ -164,4 +164,4 @@ double leafCoverage(const LeafImage& image, int level) {
     return double(pass) / double(t.size() / 4);
 }
 
-}  // namespace dawnforge::runtime
+}  // namespace dawnforge

@@ -2,12 +2,13 @@
 // The leaf picture of the trees' leaf cards (ARCHITECTURE.md 7, Trees and wind): a cluster of
 // leaves on a transparent ground, 0..1 across a card. The tree shaders cut the card out where
 // alpha is below about 0.5 (leaves.glsl dithers the cutoff by ±0.15), in the colour pass and in
-// the shadow pass alike. Made at load, deterministic.
+// the shadow pass alike. Made at load, deterministic. The GLBs give the leaf cards the same
+// picture (exporters/material_images.hpp, "leaves.png"), cut out by glTF's alpha MASK.
 #include <array>
 #include <cstdint>
 #include <vector>
 
-namespace dawnforge::runtime {
+namespace dawnforge {
 
 inline constexpr int kLeafSize = 256;   // texels per side, level 0
 inline constexpr int kLeafLevels = 9;   // 256² .. 1²
@@ -26,4 +27,4 @@ LeafImage makeLeafImage();
 // The share of level `level`'s texels whose alpha passes kLeafCutoff.
 double leafCoverage(const LeafImage& image, int level);
 
-}  // namespace dawnforge::runtime
+}  // namespace dawnforge
