@@ -2,9 +2,9 @@
 //
 //   build/bin/example_02_write_scene out.glb
 //
-// Material IDs (0-15) travel in COLOR_0 as binary RGBA, id = R + 2G + 4B + 8A, which is
-// what the runtime's atlas shader decodes; UVs are in metres so the atlas tiles at a
-// known density.
+// Material IDs (0-15) travel in the _MATERIAL_ID attribute, and each material a mesh uses
+// is a primitive with a glTF material of its own (plain colours here: see GltfSettings for
+// pictures); UVs are in metres so the runtime's atlas tiles at a known density.
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/exporters/gltf.hpp>

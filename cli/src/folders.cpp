@@ -29,7 +29,7 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
     const std::vector<procgen::TreeSpecies> species = city.dressing.species;
     const Scene scene = procgen::takeCityScene(city);
     ensureOutputDirectory(dir);
-    exporters::writeGlb(scene, dir / "city.glb");
+    exporters::writeGlb(scene, dir / "city.glb", {.images = exporters::MaterialImages::kEmbedded});
     writeFileAtomically(dir / "city.json", report);
     // Each tree species with its Pivot Painter 2 textures, for Unreal's wind shaders.
     for (const procgen::TreeSpecies& s : species)
@@ -52,7 +52,7 @@ procgen::CityPlan writeCityFolder(const procgen::CitySettings& settings, const s
 void writeFractureFolder(const sim::FractureResult& result, const sim::FractureSettings& settings,
                          const std::string& input, const std::filesystem::path& dir, int building) {
     ensureOutputDirectory(dir);
-    exporters::writeGlb(sim::fractureScene(result), dir / "fragments.glb");
+    exporters::writeGlb(sim::fractureScene(result), dir / "fragments.glb", {.images = exporters::MaterialImages::kEmbedded});
     writeFileAtomically(dir / "fracture.json", sim::fractureJson(result, settings, input, building));
 }
 
@@ -61,7 +61,8 @@ void writeSimulationFolder(const sim::SimulationResult& result, const sim::Simul
                            const std::filesystem::path& dir) {
     const std::vector<std::byte> fragments = readBinaryFile(fractureDir / "fragments.glb");
     ensureOutputDirectory(dir);
-    if (!result.chips.empty()) exporters::writeGlb(sim::debrisScene(result), dir / "debris.glb");
+    if (!result.chips.empty())
+        exporters::writeGlb(sim::debrisScene(result), dir / "debris.glb", {.images = exporters::MaterialImages::kEmbedded});
     else std::filesystem::remove(dir / "debris.glb");  // an earlier run's, which sim.json no longer counts
     sim::writeSimulation(dir, result, settings, pieces, fractureDir.string());
     writeFileAtomically(dir / "fragments.glb", fragments);

@@ -264,6 +264,16 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
     return true;  // geometry only: images are neither decoded nor needed
 }
 
+// tinygltf reads an external image's file before it hands it to skipImage: pictures are said
+// not to exist (a warning, not an error), so that a tile does not read its world's textures.
+bool fileExistsUnlessPicture(const std::string& file, void* user) {
+    std::string ext = fs::path(file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const char* picture : {".png", ".jpg", ".jpeg", ".webp", ".ktx2"})
+        if (ext == picture) return false;
+    return tinygltf::FileExists(file, user);
+}
+
 int componentCount(int type) {
     switch (type) {
         case TINYGLTF_TYPE_SCALAR: return 1;
@@ -359,6 +369,9 @@ int accessorComponents(const tinygltf::Model& model, int index) {
     return componentCount(model.accessors[std::size_t(index)].type);
 }
 
+std::vector<std::uint32_t> readTriangles(const tinygltf::Model& model, const tinygltf::Primitive& prim, std::size_t n,
+                                         const std::string& source);
+
 Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& source) {
     Mesh mesh;
     const auto position = prim.attributes.find("POSITION");
@@ -389,8 +402,16 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
         for (std::size_t i = 0; i < n; ++i) mesh.uv2.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
     if (auto v = vecAttribute("TEXCOORD_3", 2); !v.empty())
         for (std::size_t i = 0; i < n; ++i) mesh.uv3.emplace_back(float(v[2 * i]), float(v[2 * i + 1]));
-    if (auto v = vecAttribute("COLOR_0", 0); !v.empty()) {
-        // Material IDs are read from COLOR_0 only when it is binary (every channel 0 or 1).
+    if (auto v = vecAttribute("_MATERIAL_ID", 1); !v.empty()) {
+        for (double x : v) {
+            if (!(x >= 0.0 && x < kMaterialIdCount) || x != std::floor(x))
+                throw InputError(format("{}: a _MATERIAL_ID ({}) is not a material ID (0..15)", source, x));
+            mesh.materialIds.push_back(static_cast<std::uint8_t>(x));
+        }
+    } else if (auto c0 = vecAttribute("COLOR_0", 0); !c0.empty()) {
+        // Files written before _MATERIAL_ID carried the material ID in COLOR_0 as binary RGBA: read
+        // only when it is binary (every channel 0 or 1).
+        const std::vector<double>& v = c0;
         const std::size_t c = v.size() / n;
         if (c != 3 && c != 4) throw InputError(format("{}: COLOR_0 must have three or four components", source));
         if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0 || x == 1.0; }))
@@ -404,7 +425,15 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
             mesh.pieceIds.push_back(static_cast<std::uint32_t>(std::clamp(x, 0.0, 4294967295.0)));
         }
 
-    std::vector<std::uint32_t> order;
+    mesh.indices = readTriangles(model, prim, n, source);
+    return mesh;
+}
+
+// A primitive's triangles (strips and fans turned into lists; points and lines: none), checked
+// against its `n` vertices.
+std::vector<std::uint32_t> readTriangles(const tinygltf::Model& model, const tinygltf::Primitive& prim, std::size_t n,
+                                         const std::string& source) {
+    std::vector<std::uint32_t> order, triangles;
     if (prim.indices >= 0) {
         for (double x : readAccessor(model, prim.indices, source, "indices")) {
             if (!(x >= 0.0 && x < double(n)))  // also NaN and negative (float or signed accessors)
@@ -417,17 +446,72 @@ Mesh readPrimitive(const tinygltf::Model& model, const tinygltf::Primitive& prim
     const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
         order.resize(order.size() - order.size() % 3);
-        mesh.indices = std::move(order);
-    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        return order;
+    }
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         for (std::size_t i = 2; i < order.size(); ++i) {
             const bool even = i % 2 == 0;
-            mesh.indices.insert(mesh.indices.end(),
-                                {order[i - 2], even ? order[i - 1] : order[i], even ? order[i] : order[i - 1]});
+            triangles.insert(triangles.end(), {order[i - 2], even ? order[i - 1] : order[i], even ? order[i] : order[i - 1]});
         }
     } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-        for (std::size_t i = 2; i < order.size(); ++i)
-            mesh.indices.insert(mesh.indices.end(), {order[0], order[i - 1], order[i]});
+        for (std::size_t i = 2; i < order.size(); ++i) triangles.insert(triangles.end(), {order[0], order[i - 1], order[i]});
     }  // points and lines are not surfaces: skipped
+    return triangles;
+}
+
+// Our own files' triangle order (gltf.hpp): extras.triangle_primitive names, triangle by
+// triangle, the primitive that holds it; `mesh` holds the primitives' triangles one after the
+// other, `counts` how many each. Files without it keep the primitives' order.
+void restoreTriangleOrder(const tinygltf::Model& model, const tinygltf::Mesh& gltfMesh, const std::vector<std::size_t>& counts,
+                          Mesh& mesh, const std::string& source) {
+    if (!gltfMesh.extras.IsObject() || !gltfMesh.extras.Has("triangle_primitive") || counts.size() < 2) return;
+    const tinygltf::Value& index = gltfMesh.extras.Get("triangle_primitive");
+    if (!index.IsInt() || index.Get<int>() < 0 || std::size_t(index.Get<int>()) >= model.accessors.size())
+        throw InputError(format("{}: mesh '{}': extras.triangle_primitive is not an accessor", source, gltfMesh.name));
+    const std::vector<double> owner = readAccessor(model, index.Get<int>(), source, "triangle_primitive");
+    std::vector<std::size_t> next(counts.size(), 0), left = counts;
+    for (std::size_t k = 1; k < counts.size(); ++k) next[k] = next[k - 1] + counts[k - 1];
+    if (owner.size() != mesh.triangleCount())
+        throw InputError(format("{}: mesh '{}': extras.triangle_primitive has {} triangles, the primitives {}", source,
+                                gltfMesh.name, owner.size(), mesh.triangleCount()));
+    std::vector<std::uint32_t> ordered;
+    ordered.reserve(mesh.indices.size());
+    for (double x : owner) {
+        const auto k = std::size_t(x);
+        if (!(x >= 0.0 && k < counts.size()) || left[k] == 0)
+            throw InputError(format("{}: mesh '{}': extras.triangle_primitive does not match its primitives", source, gltfMesh.name));
+        --left[k];
+        const std::size_t t = next[k]++;
+        ordered.insert(ordered.end(), mesh.indices.begin() + std::ptrdiff_t(3 * t), mesh.indices.begin() + std::ptrdiff_t(3 * t + 3));
+    }
+    mesh.indices = std::move(ordered);
+}
+
+// A glTF mesh as one Mesh. Primitives that share their vertex accessors with the one before
+// (ours: one primitive per material) add only their triangles; others add their vertices too.
+Mesh readMesh(const tinygltf::Model& model, const tinygltf::Mesh& gltfMesh, const std::string& source) {
+    Mesh mesh;
+    mesh.name = gltfMesh.name;
+    std::vector<std::size_t> counts;  // triangles per primitive, while they all share one vertex set
+    bool sharing = true;
+    const std::map<std::string, int>* shared = nullptr;
+    std::size_t base = 0;
+    for (const tinygltf::Primitive& prim : gltfMesh.primitives) {
+        const std::size_t before = mesh.triangleCount();
+        if (shared && prim.attributes == *shared) {
+            const std::size_t n = mesh.positions.size() - base;
+            for (std::uint32_t i : readTriangles(model, prim, n, source)) mesh.indices.push_back(std::uint32_t(base + i));
+        } else {
+            Mesh part = readPrimitive(model, prim, source);
+            if (part.positions.empty()) continue;
+            sharing = !shared;
+            base = mesh.positions.size();
+            shared = &prim.attributes;
+            appendMesh(mesh, part, glm::mat4(1.0f));
+        }
+        counts.push_back(mesh.triangleCount() - before);
+    }
+    if (sharing) restoreTriangleOrder(model, gltfMesh, counts, mesh, source);
     return mesh;
 }
 
@@ -461,9 +545,7 @@ void addNode(const tinygltf::Model& model, int index, const glm::mat4& parent, i
         entry.name = node.name;
         entry.world = world;
         entry.parent = parentEntry;
-        entry.mesh.name = model.meshes[std::size_t(node.mesh)].name;
-        for (const tinygltf::Primitive& prim : model.meshes[std::size_t(node.mesh)].primitives)
-            appendMesh(entry.mesh, readPrimitive(model, prim, source), glm::mat4(1.0f));
+        entry.mesh = readMesh(model, model.meshes[std::size_t(node.mesh)], source);
         parentEntry = int(out.size());
         out.push_back(std::move(entry));
     }
@@ -545,6 +627,8 @@ std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& nam
     checkGltfFlavour(file, name);
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
+    loader.SetFsCallbacks({fileExistsUnlessPicture, tinygltf::ExpandFilePath, tinygltf::ReadWholeFile,
+                           tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     char magic[4] = {};

@@ -1,15 +1,21 @@
 // glTF 2.0 writer on tinygltf. Spec: https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html
 #include <dawnforge/core/atomic_file.hpp>
 #include <dawnforge/core/error.hpp>
+#include <dawnforge/core/material_paint.hpp>
+#include <dawnforge/core/materials.hpp>
 #include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/exporters/material_images.hpp>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -142,16 +148,43 @@ private:
     std::vector<View> writers_;
 };
 
-tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material) {
-    DAWNFORGE_ASSERT(!mesh.positions.empty() && !mesh.indices.empty(), "glTF meshes cannot be empty");
-    tinygltf::Primitive prim;
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
-    prim.material = material;
-    prim.attributes["POSITION"] = buffers.addFloats(mesh.positions, TINYGLTF_TYPE_VEC3, true);
+// The glTF materials a scene uses, numbered in order of first use: (material ID, variant), or
+// (-1, 0) for meshes without material IDs.
+class MaterialTable {
+public:
+    int index(int material, int variant) {
+        const auto [it, added] = index_.try_emplace({material, variant}, int(keys_.size()));
+        if (added) keys_.push_back({material, variant});
+        return it->second;
+    }
+    const std::vector<std::pair<int, int>>& keys() const { return keys_; }
+
+private:
+    std::map<std::pair<int, int>, int> index_;
+    std::vector<std::pair<int, int>> keys_;
+};
+
+// A float scalar attribute holding f(i) for vertex i (custom attributes: _MATERIAL_ID, _PIECE_ID,
+// _FEATURE_ID_0).
+template <typename F>
+int addScalars(BufferBuilder& buffers, std::size_t n, F f) {
+    return buffers.add(
+        [n, f](unsigned char* out) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const float v = f(i);
+                std::memcpy(out + 4 * i, &v, 4);
+            }
+        },
+        n * 4, n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
+}
+
+std::map<std::string, int> encodeAttributes(const Mesh& mesh, BufferBuilder& buffers) {
+    std::map<std::string, int> attributes;
+    attributes["POSITION"] = buffers.addFloats(mesh.positions, TINYGLTF_TYPE_VEC3, true);
     if (!mesh.normals.empty()) {
         // glTF requires unit normals: normalise, and give degenerate ones a valid direction.
         const std::vector<glm::vec3>& normals = mesh.normals;
-        prim.attributes["NORMAL"] = buffers.add(
+        attributes["NORMAL"] = buffers.add(
             [&normals](unsigned char* out) {
                 for (std::size_t i = 0; i < normals.size(); ++i) {
                     const float len = glm::length(normals[i]);
@@ -162,64 +195,95 @@ tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, int material
             normals.size() * 12, normals.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
             TINYGLTF_TARGET_ARRAY_BUFFER);
     }
-    if (!mesh.uv0.empty()) prim.attributes["TEXCOORD_0"] = buffers.addFloats(mesh.uv0, TINYGLTF_TYPE_VEC2);
-    if (!mesh.uv1.empty()) prim.attributes["TEXCOORD_1"] = buffers.addFloats(mesh.uv1, TINYGLTF_TYPE_VEC2);
-    if (!mesh.uv2.empty()) prim.attributes["TEXCOORD_2"] = buffers.addFloats(mesh.uv2, TINYGLTF_TYPE_VEC2);
-    if (!mesh.uv3.empty()) prim.attributes["TEXCOORD_3"] = buffers.addFloats(mesh.uv3, TINYGLTF_TYPE_VEC2);
-    if (!mesh.materialIds.empty()) {
-        const std::vector<std::uint8_t>& ids = mesh.materialIds;
-        prim.attributes["COLOR_0"] = buffers.add(
-            [&ids](unsigned char* out) {
-                for (std::size_t i = 0; i < ids.size(); ++i) {
-                    const glm::u8vec4 c = materialIdToColor(ids[i]);
-                    std::memcpy(out + 4 * i, &c, 4);
-                }
-            },
-            ids.size() * 4, ids.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4,
-            TINYGLTF_TARGET_ARRAY_BUFFER, true);
-    }
-    if (!mesh.pieceIds.empty()) {
-        const std::vector<std::uint32_t>& ids = mesh.pieceIds;
-        prim.attributes["_PIECE_ID"] = buffers.add(
-            [&ids](unsigned char* out) {
-                for (std::size_t i = 0; i < ids.size(); ++i) {
-                    const float f = static_cast<float>(ids[i]);
-                    std::memcpy(out + 4 * i, &f, 4);
-                }
-            },
-            ids.size() * 4, ids.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
-    }
-    if (mesh.featureId >= 0) {  // EXT_mesh_features: one feature for the whole mesh, a float (4-byte aligned, exact to 2^24)
+    if (!mesh.uv0.empty()) attributes["TEXCOORD_0"] = buffers.addFloats(mesh.uv0, TINYGLTF_TYPE_VEC2);
+    if (!mesh.uv1.empty()) attributes["TEXCOORD_1"] = buffers.addFloats(mesh.uv1, TINYGLTF_TYPE_VEC2);
+    if (!mesh.uv2.empty()) attributes["TEXCOORD_2"] = buffers.addFloats(mesh.uv2, TINYGLTF_TYPE_VEC2);
+    if (!mesh.uv3.empty()) attributes["TEXCOORD_3"] = buffers.addFloats(mesh.uv3, TINYGLTF_TYPE_VEC2);
+    if (const std::vector<std::uint8_t>& ids = mesh.materialIds; !ids.empty())
+        attributes["_MATERIAL_ID"] = addScalars(buffers, ids.size(), [&ids](std::size_t i) { return float(ids[i]); });
+    if (const std::vector<std::uint32_t>& ids = mesh.pieceIds; !ids.empty())
+        attributes["_PIECE_ID"] = addScalars(buffers, ids.size(), [&ids](std::size_t i) { return float(ids[i]); });
+    if (mesh.featureId >= 0) {  // EXT_mesh_features: one feature for the whole mesh
         DAWNFORGE_ASSERT(mesh.featureId < (1 << 24), "a feature id beyond float's integers");
-        const std::size_t n = mesh.positions.size();
         const auto id = static_cast<float>(mesh.featureId);
-        prim.attributes["_FEATURE_ID_0"] = buffers.add(
-            [n, id](unsigned char* out) {
-                for (std::size_t i = 0; i < n; ++i) std::memcpy(out + 4 * i, &id, 4);
-            },
-            n * 4, n, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
+        attributes["_FEATURE_ID_0"] = addScalars(buffers, mesh.positions.size(), [id](std::size_t) { return id; });
     }
-    // The smallest index type that holds every index.
-    const bool small = mesh.positions.size() <= 65535;
-    if (small) {
-        const std::vector<std::uint32_t>& idx = mesh.indices;
-        prim.indices = buffers.add(
-            [&idx](unsigned char* out) {
-                for (std::size_t i = 0; i < idx.size(); ++i) {
-                    const auto v = static_cast<std::uint16_t>(idx[i]);
+    return attributes;
+}
+
+// `indices` as an accessor of the smallest index type that holds `vertices` indices.
+int addIndices(BufferBuilder& buffers, std::shared_ptr<const std::vector<std::uint32_t>> idx, std::size_t vertices) {
+    if (vertices <= 65535)
+        return buffers.add(
+            [idx](unsigned char* out) {
+                for (std::size_t i = 0; i < idx->size(); ++i) {
+                    const auto v = static_cast<std::uint16_t>((*idx)[i]);
                     std::memcpy(out + 2 * i, &v, 2);
                 }
             },
-            idx.size() * 2, idx.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
+            idx->size() * 2, idx->size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
             TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    } else {
-        prim.indices = buffers.add(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(),
-                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
-                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    return buffers.add([idx](unsigned char* out) { std::memcpy(out, idx->data(), idx->size() * 4); }, idx->size() * 4,
+                       idx->size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
+                       TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+}
+
+// The mesh's triangles grouped by material ID (a triangle's first vertex's), in ID order, each
+// group in the mesh's order; one group of every triangle (key -1) when there are no IDs or
+// `perMaterial` is off.
+std::vector<std::pair<int, std::shared_ptr<const std::vector<std::uint32_t>>>> trianglesByMaterial(const Mesh& mesh,
+                                                                                                 bool perMaterial) {
+    if (mesh.materialIds.empty() || !perMaterial)
+        return {{-1, std::shared_ptr<const std::vector<std::uint32_t>>(&mesh.indices, [](const auto*) {})}};
+    std::array<std::shared_ptr<std::vector<std::uint32_t>>, kMaterialIdCount> groups;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        auto& group = groups[mesh.materialIds[mesh.indices[t]] & 15u];
+        if (!group) group = std::make_shared<std::vector<std::uint32_t>>();
+        group->insert(group->end(), mesh.indices.begin() + std::ptrdiff_t(t), mesh.indices.begin() + std::ptrdiff_t(t) + 3);
     }
+    std::vector<std::pair<int, std::shared_ptr<const std::vector<std::uint32_t>>>> out;
+    for (int m = 0; m < kMaterialIdCount; ++m)
+        if (groups[std::size_t(m)]) out.emplace_back(m, groups[std::size_t(m)]);
+    return out;
+}
+
+// The mesh's triangle order, which grouping by material loses and our own reader puts back
+// (building parts are ranges of triangles, city.json): extras.triangle_primitive, an accessor of
+// one unsigned byte per triangle in the mesh's order, the index of the primitive that holds it.
+tinygltf::Value trianglePrimitives(const Mesh& mesh, const std::vector<std::pair<int, std::shared_ptr<const std::vector<std::uint32_t>>>>& groups,
+                                   BufferBuilder& buffers) {
+    std::array<std::uint8_t, kMaterialIdCount> primitive{};
+    for (std::size_t k = 0; k < groups.size(); ++k) primitive[std::size_t(groups[k].first)] = std::uint8_t(k);
+    const std::size_t triangles = mesh.triangleCount();
+    const int accessor = buffers.add(
+        [&mesh, primitive, triangles](unsigned char* out) {
+            for (std::size_t t = 0; t < triangles; ++t) out[t] = primitive[mesh.materialIds[mesh.indices[3 * t]] & 15u];
+        },
+        triangles, triangles, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, 0);
+    tinygltf::Value::Object extras;
+    extras.emplace("triangle_primitive", tinygltf::Value(accessor));
+    return tinygltf::Value(std::move(extras));
+}
+
+tinygltf::Mesh encodeMesh(const Mesh& mesh, BufferBuilder& buffers, MaterialTable& materials, bool perMaterial) {
+    DAWNFORGE_ASSERT(!mesh.positions.empty() && !mesh.indices.empty(), "glTF meshes cannot be empty");
+    const std::map<std::string, int> attributes = encodeAttributes(mesh, buffers);
+    const std::uint32_t building = variantBuilding(mesh.name);
+    const bool leafCards = mesh.name.starts_with("tree_");  // a tree's ground cards are its leaves (procgen's dressing)
     tinygltf::Mesh out;
     out.name = mesh.name;
-    out.primitives.push_back(std::move(prim));
+    const auto groups = trianglesByMaterial(mesh, perMaterial);
+    if (groups.size() > 1) out.extras = trianglePrimitives(mesh, groups, buffers);
+    for (const auto& [material, indices] : groups) {
+        tinygltf::Primitive prim;
+        prim.mode = TINYGLTF_MODE_TRIANGLES;
+        prim.attributes = attributes;
+        if (material < 0) prim.material = materials.index(-1, 0);
+        else if (material == kGround && leafCards) prim.material = materials.index(kLeafCards, 0);
+        else prim.material = materials.index(material, materialVariant(building, material));
+        prim.indices = addIndices(buffers, indices, mesh.positions.size());
+        out.primitives.push_back(std::move(prim));
+    }
     return out;
 }
 
@@ -334,16 +398,89 @@ nlohmann::ordered_json encodeFeatureTable(const FeatureTable& table, BufferBuild
                                    {{{"class", table.className}, {"count", table.count}, {"properties", columns}}})}};
 }
 
-// The root's EXT_structural_metadata and each featured mesh's EXT_mesh_features (its one
-// primitive: every vertex the mesh's row), and both in extensionsUsed.
+// The root's EXT_structural_metadata and each featured mesh's EXT_mesh_features (on each of its
+// primitives: every vertex the mesh's row), and both in extensionsUsed.
 void addFeatureExtensions(nlohmann::ordered_json& json, const Scene& scene, const nlohmann::ordered_json& metadata) {
     json["extensions"]["EXT_structural_metadata"] = metadata;
     for (std::size_t m = 0; m < scene.meshes.size(); ++m)
         if (scene.meshes[m].featureId >= 0)
-            json["meshes"][m]["primitives"][0]["extensions"]["EXT_mesh_features"] = {
-                {"featureIds", {{{"featureCount", 1}, {"attribute", 0}, {"propertyTable", 0}}}}};
+            for (nlohmann::ordered_json& prim : json["meshes"][m]["primitives"])
+                prim["extensions"]["EXT_mesh_features"] = {
+                    {"featureIds", {{{"featureCount", 1}, {"attribute", 0}, {"propertyTable", 0}}}}};
     nlohmann::ordered_json& used = json["extensionsUsed"];
     for (const char* name : {"EXT_mesh_features", "EXT_structural_metadata"}) used.push_back(name);
+}
+
+// A material's factors: the plain "default" (key -1), the leaf cards (kLeafCards: cut out where
+// their picture's alpha is below 0.5, seen from both sides), or a material ID's surface; the base
+// colour white under a picture, else the material's mean colour.
+nlohmann::ordered_json materialFactors(int id, bool textured) {
+    const auto tidy = [](float x) { return std::round(double(x) * 1e4) / 1e4; };  // the tables' digits, not float's
+    const auto pbr = [&](glm::vec3 c, float opacity, float metallic, float roughness) {
+        return nlohmann::ordered_json{{"baseColorFactor", {tidy(c.r), tidy(c.g), tidy(c.b), tidy(opacity)}},
+                                      {"metallicFactor", tidy(metallic)},
+                                      {"roughnessFactor", tidy(roughness)}};
+    };
+    if (id < 0) return {{"name", "default"}, {"pbrMetallicRoughness", pbr(glm::vec3(0.8f), 1.0f, 0.0f, 0.9f)}};
+    if (id == kLeafCards) {
+        nlohmann::ordered_json m{{"name", "leaves"},
+                                 {"pbrMetallicRoughness", pbr(textured ? glm::vec3(1.0f) : leafMeanColour(), 1.0f, 0.0f, 0.8f)}};
+        if (textured) m.update({{"alphaMode", "MASK"}, {"alphaCutoff", 0.5}, {"doubleSided", true}});
+        return m;
+    }
+    const MaterialSurface surface = materialSurface(std::uint8_t(id));
+    nlohmann::ordered_json m{{"name", ""},
+                             {"pbrMetallicRoughness", pbr(textured ? glm::vec3(1.0f) : materialMeanColour(std::uint8_t(id)),
+                                                          surface.opacity, surface.metallic, surface.roughness)}};
+    if (surface.opacity < 1.0f) m["alphaMode"] = "BLEND";
+    return m;
+}
+
+// One glTF material per key of `table` (gltf.hpp says what each gets), with the samplers,
+// textures and images of their pictures: the top-level arrays to put in the glTF's JSON.
+// Embedded pictures get their buffer views here, so call it before the model is written.
+nlohmann::ordered_json encodeMaterials(const MaterialTable& table, const GltfSettings& settings, BufferBuilder& buffers) {
+    nlohmann::ordered_json json = nlohmann::ordered_json::object();
+    nlohmann::ordered_json materials = nlohmann::ordered_json::array(), images = nlohmann::ordered_json::array(),
+                           textures = nlohmann::ordered_json::array();
+    const bool textured = settings.images != MaterialImages::kNone;
+    for (const auto& [id, variant] : table.keys()) {
+        nlohmann::ordered_json m = materialFactors(id, textured);
+        if (id < 0) {
+            materials.push_back(std::move(m));
+            continue;
+        }
+        const std::string file = materialImageName(id, variant);
+        m["name"] = file.substr(0, file.size() - 4);
+        if (textured) {
+            // Material tiles repeat every materialTileMetres of TEXCOORD_0 (sampler 0); the leaf
+            // picture spans its card once (sampler 1, clamped).
+            nlohmann::ordered_json texture = {{"index", textures.size()}};
+            if (id != kLeafCards) {
+                const double repeat = 1.0 / materialTileMetres(id);
+                texture["extensions"] = {{"KHR_texture_transform", {{"scale", {repeat, repeat}}}}};
+            }
+            m["pbrMetallicRoughness"]["baseColorTexture"] = std::move(texture);
+            textures.push_back({{"sampler", id == kLeafCards ? 1 : 0}, {"source", images.size()}});
+            if (settings.images == MaterialImages::kLinked) {
+                images.push_back({{"uri", settings.imageFolder + file}});
+            } else {
+                const std::vector<std::byte>& png = materialImagePng(id, variant);
+                const int view = buffers.addView([&png](unsigned char* out) { std::memcpy(out, png.data(), png.size()); },
+                                                 png.size());
+                images.push_back({{"bufferView", view}, {"mimeType", "image/png"}});
+            }
+        }
+        materials.push_back(std::move(m));
+    }
+    if (!materials.empty()) json["materials"] = std::move(materials);
+    if (images.empty()) return json;
+    json["samplers"] = nlohmann::ordered_json::array(  // LINEAR, LINEAR_MIPMAP_LINEAR; REPEAT, then CLAMP_TO_EDGE
+        {{{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}},
+         {{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}});
+    json["textures"] = std::move(textures);
+    json["images"] = std::move(images);
+    return json;
 }
 
 GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
@@ -352,17 +489,10 @@ GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
     model.asset.version = "2.0";
     model.asset.generator = settings.generator;
 
-    // One material: vertex colours carry the material ID, so the base colour stays white.
-    tinygltf::Material material;
-    material.name = "dawnforge_atlas";
-    material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
-    material.pbrMetallicRoughness.metallicFactor = 0.0;
-    material.pbrMetallicRoughness.roughnessFactor = 1.0;
-    material.doubleSided = false;
-    model.materials.push_back(material);
-
-    for (const Mesh& mesh : scene.meshes) model.meshes.push_back(encodeMesh(mesh, buffers, 0));
+    MaterialTable materials;
+    for (const Mesh& mesh : scene.meshes) model.meshes.push_back(encodeMesh(mesh, buffers, materials, settings.primitivePerMaterial));
     const nlohmann::ordered_json metadata = encodeFeatureTable(scene.features, buffers);
+    const nlohmann::ordered_json materialArrays = encodeMaterials(materials, settings, buffers);
 
     for (const Node& node : scene.nodes) {
         tinygltf::Node n;
@@ -396,6 +526,8 @@ GlbLayout::GlbLayout(const Scene& scene, const GltfSettings& settings) {
     DAWNFORGE_ASSERT(writer.WriteGltfSceneToStream(&model, stream, false, false), "tinygltf could not encode the scene");
     nlohmann::ordered_json json = nlohmann::ordered_json::parse(stream.str());
     if (!metadata.is_null()) addFeatureExtensions(json, scene, metadata);
+    for (const auto& [key, value] : materialArrays.items()) json[key] = value;
+    if (materialArrays.contains("textures")) json["extensionsUsed"].push_back("KHR_texture_transform");
     if (buffers.size() > 0)
         json["buffers"] = nlohmann::ordered_json::array({{{"byteLength", buffers.size()}}});
     else

@@ -550,7 +550,7 @@ void writeVat(const Vat& vat, const VatSettings& settings, const std::filesystem
     scene.addMeshNode(vat.mesh);
     scene.nodes[0].name = settings.name;
     scene.extrasJson = format(R"({{"generator":"dawnforge vat","preset":"{}"}})", vatPresetName(settings.preset));
-    const std::vector<std::byte> glb = encodeGlb(scene);
+    const std::vector<std::byte> glb = encodeGlb(scene, {.primitivePerMaterial = false});  // one slot for the Labs material
     for (const auto& [suffix, bytes] : textures) writeFileAtomically(dir / (settings.name + suffix), bytes);
     writeFileAtomically(dir / (settings.name + "_mesh.glb"), glb);
     writeFileAtomically(dir / (settings.name + "_data.json"), std::string_view(vat.dataJson));

@@ -275,8 +275,14 @@ std::vector<double> readAccessor(const tinygltf::Model& m, int index, int& comps
   return out;
 }
 
+// Geometry only: pictures (fragments.glb embeds its materials') are neither decoded nor needed.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) {
+  return true;
+}
+
 tinygltf::Model loadGltf(const std::string& path) {
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(skipImage, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
@@ -483,14 +489,18 @@ std::vector<Mesh> loadPieces(const std::string& path, Report& report) {
       report.fail("format", node.name + ": node has rotation, scale, matrix or children");
     if (node.translation.size() == 3) mesh.offset = {node.translation[0], node.translation[1], node.translation[2]};
     else report.fail("format", node.name + ": node has no translation (pivot)");
-    if (node.mesh < 0 || model.meshes.at(node.mesh).primitives.size() != 1) {
-      report.fail("format", node.name + ": node needs a mesh with exactly one primitive");
-      if (node.mesh < 0) { finishBoxes(mesh); pieces.push_back(std::move(mesh)); continue; }
+    if (node.mesh < 0 || model.meshes.at(node.mesh).primitives.empty()) {
+      report.fail("format", node.name + ": node needs a mesh with primitives");
+      finishBoxes(mesh); pieces.push_back(std::move(mesh)); continue;
     }
-    const auto& prim = model.meshes.at(node.mesh).primitives.at(0);
+    // One primitive per material, all of them on the same vertices.
+    const auto& prims = model.meshes.at(node.mesh).primitives;
+    const auto& prim = prims.at(0);
+    for (const auto& other : prims)
+      if (other.attributes != prim.attributes) report.fail("format", node.name + ": primitives on different vertices");
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) report.fail("format", node.name + ": primitive mode is not TRIANGLES");
     if (prim.indices < 0) report.fail("format", node.name + ": primitive is not indexed");
-    for (const char* a : {"POSITION", "NORMAL", "TEXCOORD_0", "COLOR_0", "_PIECE_ID"})
+    for (const char* a : {"POSITION", "NORMAL", "TEXCOORD_0", "_MATERIAL_ID", "_PIECE_ID"})
       if (!prim.attributes.count(a)) report.fail("format", node.name + ": missing attribute " + a);
     if (prim.attributes.count("POSITION")) {
       const auto& acc = model.accessors.at(prim.attributes.at("POSITION"));
@@ -504,9 +514,11 @@ std::vector<Mesh> loadPieces(const std::string& path, Report& report) {
     }
     std::vector<Vec3> pos;
     std::vector<uint32_t> idx;
-    readPrimitive(model, prim, pos, idx);
     std::unordered_map<Vec3, uint32_t, Vec3Hash, Vec3Eq> weld;
-    addTriangles(mesh, pos, idx, weld);
+    for (const auto& part : prims) {
+      readPrimitive(model, part, pos, idx);
+      addTriangles(mesh, pos, idx, weld);
+    }
     finishBoxes(mesh);
     pieces.push_back(std::move(mesh));
   }

@@ -2,13 +2,20 @@
 
 #include <dawnforge/core/error.hpp>
 #include <dawnforge/core/import.hpp>
+#include <dawnforge/core/material_paint.hpp>
+#include <dawnforge/core/materials.hpp>
 #include <dawnforge/core/primitives.hpp>
 #include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/exporters/image.hpp>
+#include <dawnforge/exporters/material_images.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstring>
+#include <fstream>
+#include <map>
 
 using namespace dawnforge;
 using namespace dawnforge::exporters;
@@ -81,29 +88,140 @@ TEST(Gltf, LayoutFollowsTheConventions) {
     EXPECT_EQ(node["extras"]["tags"][1], "b");
     EXPECT_EQ(node["children"][0], 1);
     const nlohmann::json& attributes = j["meshes"][0]["primitives"][0]["attributes"];
-    for (const char* a : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "COLOR_0", "_PIECE_ID"})
+    for (const char* a : {"POSITION", "NORMAL", "TEXCOORD_0", "TEXCOORD_1", "_MATERIAL_ID", "_PIECE_ID"})
         EXPECT_TRUE(attributes.contains(a)) << a;
-    const nlohmann::json& color = j["accessors"][attributes["COLOR_0"].get<int>()];
-    EXPECT_EQ(color["componentType"], 5121);  // UNSIGNED_BYTE
-    EXPECT_EQ(color["normalized"], true);
-    EXPECT_EQ(color["type"], "VEC4");
+    EXPECT_FALSE(attributes.contains("COLOR_0"));  // a reader would paint it as a colour
+    const nlohmann::json& ids = j["accessors"][attributes["_MATERIAL_ID"].get<int>()];
+    EXPECT_EQ(ids["componentType"], 5126);  // FLOAT, as glTF's custom attributes may be
+    EXPECT_EQ(ids["type"], "SCALAR");
     const int bigIndices = j["meshes"][1]["primitives"][0]["indices"];
     EXPECT_EQ(j["accessors"][bigIndices]["componentType"], 5125);  // UNSIGNED_INT above 65,535 vertices
 }
 
-TEST(Gltf, MaterialIdsSurviveTheRoundTrip) {
+// Two triangles per material ID, the IDs in a shuffled order (as a building's parts mix them):
+// the file has a primitive per ID, and our reader gives back the vertices and the triangles in
+// the mesh's order (city.json's building parts are ranges of triangles).
+TEST(Gltf, MaterialIdsAndTheTriangleOrderSurviveTheRoundTrip) {
     TempDir dir;
     Scene scene;
     Mesh m;
-    for (int id = 0; id < 16; ++id) {  // one triangle per material ID
+    for (int k = 0; k < 32; ++k) {
+        const int id = (k * 7 + 3) % 16;
         const auto base = static_cast<std::uint32_t>(m.positions.size());
-        m.positions.insert(m.positions.end(), {{float(id), 0, 0}, {float(id) + 1, 0, 0}, {float(id), 1, 0}});
+        m.positions.insert(m.positions.end(), {{float(k), 0, 0}, {float(k) + 1, 0, 0}, {float(k), 1, 0}});
         m.materialIds.insert(m.materialIds.end(), 3, std::uint8_t(id));
         m.indices.insert(m.indices.end(), {base, base + 1, base + 2});
     }
     scene.addMeshNode(m);
     writeGlb(scene, dir / "ids.glb");
-    EXPECT_EQ(loadMesh(dir / "ids.glb").materialIds, m.materialIds);
+    EXPECT_EQ(glbJson(encodeGlb(scene))["meshes"][0]["primitives"].size(), 16u);
+    const Mesh back = loadMesh(dir / "ids.glb");
+    EXPECT_EQ(back.materialIds, m.materialIds);
+    EXPECT_EQ(back.positions, m.positions);
+    EXPECT_EQ(back.indices, m.indices);
+}
+
+// What a reader that knows nothing of ours gets: for each material a mesh uses, a primitive
+// with a glTF material named after it (brick and plaster: the building's colour variant, as the
+// runtime picks it), metal-roughness, glass blended; plain mean colours without pictures.
+TEST(Gltf, EachMaterialIsAPrimitiveWithAMaterialAReaderUnderstands) {
+    Scene scene;
+    Mesh m = makeBox({0, 0, 0}, {1, 1, 1});  // 6 faces of 2 triangles: 2 brick, 2 glass, 2 asphalt
+    m.name = "building_00007_lod0";
+    m.materialIds.assign(m.vertexCount(), 0);
+    const std::uint8_t ids[3] = {kBrick, kGlass, kAsphalt};
+    for (std::size_t t = 0; t < m.triangleCount(); ++t)
+        for (int c = 0; c < 3; ++c) m.materialIds[m.indices[3 * t + std::size_t(c)]] = ids[t / 2 % 3];
+    scene.addMeshNode(m);
+    const nlohmann::json j = glbJson(encodeGlb(scene));
+    const nlohmann::json& prims = j["meshes"][0]["primitives"];
+    std::map<std::string, nlohmann::json> byName;
+    for (const nlohmann::json& p : prims) byName[j["materials"][p["material"].get<int>()]["name"]] = j["materials"][p["material"].get<int>()];
+    const std::string brick = "brick_" + std::to_string(materialVariant(7, kBrick));
+    ASSERT_EQ(byName.size(), 3u);
+    ASSERT_TRUE(byName.contains(brick) && byName.contains("glass") && byName.contains("asphalt"));
+    EXPECT_EQ(byName["glass"]["alphaMode"], "BLEND");
+    EXPECT_FALSE(byName["asphalt"].contains("alphaMode"));
+    const nlohmann::json& pbr = byName["asphalt"]["pbrMetallicRoughness"];
+    EXPECT_NEAR(pbr["baseColorFactor"][0].get<double>(), materialMeanColour(kAsphalt).r, 1e-4);
+    EXPECT_FALSE(pbr.contains("baseColorTexture"));
+    EXPECT_FALSE(j.contains("images"));
+    // The VAT meshes' form: one primitive, one material.
+    const nlohmann::json one = glbJson(encodeGlb(scene, {.primitivePerMaterial = false}));
+    EXPECT_EQ(one["meshes"][0]["primitives"].size(), 1u);
+    EXPECT_EQ(one["materials"].size(), 1u);
+}
+
+// A tree's ground cards are its leaf cards (as the runtime draws them): material "leaves", the
+// leaf picture once across the card (a clamped sampler), cut out at alpha 0.5, both sides seen.
+TEST(Gltf, ATreesLeafCardsWearTheLeafPictureCutOut) {
+    Scene scene;
+    Mesh m = makeBox({0, 0, 0}, {1, 1, 1}, kWood);
+    m.name = "tree_oak_twig_0";
+    for (std::size_t v = 0; v < 8; ++v) m.materialIds[v] = kGround;  // two faces of leaves
+    scene.addMeshNode(m);
+    const nlohmann::json j = glbJson(encodeGlb(scene, {.images = MaterialImages::kEmbedded}));
+    ASSERT_EQ(j["materials"].size(), 2u);
+    const nlohmann::json& leaves = j["materials"][0]["name"] == "leaves" ? j["materials"][0] : j["materials"][1];
+    EXPECT_EQ(leaves["name"], "leaves");
+    EXPECT_EQ(leaves["alphaMode"], "MASK");
+    EXPECT_EQ(leaves["alphaCutoff"], 0.5);
+    EXPECT_EQ(leaves["doubleSided"], true);
+    const nlohmann::json& texture = leaves["pbrMetallicRoughness"]["baseColorTexture"];
+    EXPECT_FALSE(texture.contains("extensions"));  // 0..1 across the card, not metres
+    const nlohmann::json& sampler = j["samplers"][j["textures"][texture["index"].get<int>()]["sampler"].get<int>()];
+    EXPECT_EQ(sampler["wrapS"], 33071);  // CLAMP_TO_EDGE
+    // Elsewhere the same ground is ground.
+    scene.meshes[0].name = "lot_7";
+    const nlohmann::json ground = glbJson(encodeGlb(scene));
+    EXPECT_TRUE(ground["materials"][0]["name"] == "ground" || ground["materials"][1]["name"] == "ground");
+}
+
+// With pictures: each material's base colour is its picture (a 256² PNG that decodes), repeated
+// every materialTileMetres of TEXCOORD_0 (KHR_texture_transform), sampled with repeat wrapping
+// and mipmaps; embedded once per material in the GLB, or linked to a shared folder.
+TEST(Gltf, MaterialsWearTheirPicturesEmbeddedOrLinked) {
+    TempDir dir;
+    Scene scene;
+    for (std::uint8_t id : {kRoofTiles, kGround}) {
+        Mesh m = makeBox({0, 0, 0}, {1, 1, 1});
+        m.materialIds.assign(m.vertexCount(), id);
+        scene.addMeshNode(m);
+    }
+    scene.addMeshNode(scene.meshes[0]);  // roof tiles again: its picture is not embedded twice
+    writeGlb(scene, dir / "embedded.glb", {.images = MaterialImages::kEmbedded});
+    test::expectValidGltf(dir / "embedded.glb");
+    const std::vector<unsigned char> bytes = test::readBytes(dir / "embedded.glb");
+    const nlohmann::json j = glbJson(std::vector<std::byte>(reinterpret_cast<const std::byte*>(bytes.data()),
+                                                            reinterpret_cast<const std::byte*>(bytes.data()) + bytes.size()));
+    ASSERT_EQ(j["images"].size(), 2u);
+    EXPECT_EQ(j["samplers"][0], nlohmann::json({{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 10497}, {"wrapT", 10497}}));
+    EXPECT_NE(std::find(j["extensionsUsed"].begin(), j["extensionsUsed"].end(), "KHR_texture_transform"), j["extensionsUsed"].end());
+    std::uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, bytes.data() + 12, 4);
+    const std::size_t bin = 20 + jsonLength + 8;
+    for (const nlohmann::json& material : j["materials"]) {
+        const nlohmann::json& texture = material["pbrMetallicRoughness"]["baseColorTexture"];
+        const std::uint8_t id = material["name"] == "roof_tiles" ? kRoofTiles : kGround;
+        const double scale = texture["extensions"]["KHR_texture_transform"]["scale"][0];
+        EXPECT_DOUBLE_EQ(scale, 1.0 / materialTileMetres(id));
+        const nlohmann::json& image = j["images"][j["textures"][texture["index"].get<int>()]["source"].get<int>()];
+        EXPECT_EQ(image["mimeType"], "image/png");
+        const nlohmann::json& view = j["bufferViews"][image["bufferView"].get<int>()];
+        const std::size_t at = bin + view.value("byteOffset", std::size_t(0)), length = view["byteLength"];
+        std::ofstream(dir / "picture.png", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data() + at), std::streamsize(length));
+        const Image picture = readPng(dir / "picture.png");
+        EXPECT_EQ(picture.width, kMaterialImageSize);
+        EXPECT_EQ(picture.height, kMaterialImageSize);
+    }
+
+    const nlohmann::json linked = glbJson(encodeGlb(scene, {.images = MaterialImages::kLinked, .imageFolder = "../../textures/"}));
+    ASSERT_EQ(linked["images"].size(), 2u);
+    EXPECT_EQ(linked["images"][0]["uri"], "../../textures/roof_tiles.png");
+    EXPECT_EQ(linked["images"][1]["uri"], "../../textures/ground.png");
+    EXPECT_EQ(writeMaterialImages(dir / "textures"), 23);  // 14 materials, brick and plaster four times, leaves
+    EXPECT_EQ(writeMaterialImages(dir / "textures"), 0);   // the same bytes are not written again
+    EXPECT_EQ(readPng(dir / "textures" / "brick_3.png").width, kMaterialImageSize);
 }
 
 TEST(Gltf, UnwritableOutputLeavesNothing) {

@@ -114,9 +114,16 @@ function serve(root) {
 }
 
 // ---- headless shims: the reader resolves URLs against window.location and schedules its
-// queues with requestAnimationFrame; nothing else of a browser is needed.
+// queues with requestAnimationFrame; three's GLTFLoader fetches a material's picture (a tile's
+// textures/*.png, over HTTP like the rest) and decodes it with createImageBitmap, which Node
+// lacks: a picture is fetched, not decoded (nothing is drawn here).
 function installShims(base) {
 	if (typeof globalThis.window === 'undefined') globalThis.window = { location: { href: base } };
+	if (typeof globalThis.self === 'undefined') globalThis.self = globalThis;
+	if (typeof globalThis.ImageBitmap === 'undefined')
+		globalThis.ImageBitmap = class ImageBitmap { constructor(bytes) { this.width = 1; this.height = 1; this.bytes = bytes; } close() {} };
+	if (typeof globalThis.createImageBitmap === 'undefined')
+		globalThis.createImageBitmap = async (blob) => new globalThis.ImageBitmap(blob.size);
 	if (typeof globalThis.requestAnimationFrame === 'undefined') {
 		globalThis.requestAnimationFrame = cb => setTimeout(() => cb(performance.now()), 1);
 		globalThis.cancelAnimationFrame = h => clearTimeout(h);

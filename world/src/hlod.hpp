@@ -9,7 +9,7 @@
 // ratio; it does not lock open borders, but its error bounds how far an open border's point moves.
 //
 // Vertex attributes of an HLOD mesh: POSITION, NORMAL, TEXCOORD_0 (metres, atlas tiling, as
-// the city's), COLOR_0 (material id), and the bake folded in: TEXCOORD_1 = (sky, sun bounce)
+// the city's), _MATERIAL_ID (material id), and the bake folded in: TEXCOORD_1 = (sky, sun bounce)
 // and TEXCOORD_2 = (ao, lamps), the decoded channels of the bake (bake_folder.hpp:
 // value = range * (stored / 255)^2 with ranges 2, 2, 1, 4), sampled at the vertex's lightmap
 // UV; a vertex with no bake gets sky 1, sun bounce 1, ao 1, lamps 0.

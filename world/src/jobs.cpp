@@ -11,6 +11,7 @@
 #include <dawnforge/core/import.hpp>
 #include <dawnforge/core/read_file.hpp>
 #include <dawnforge/exporters/gltf.hpp>
+#include <dawnforge/exporters/material_images.hpp>
 #include <dawnforge/exporters/pivot_painter.hpp>
 #include <dawnforge/procgen/city.hpp>
 
@@ -62,6 +63,13 @@ glm::ivec2 tileOfTask(const WorldPlan& plan, int task) {
 
 std::string tileDir(glm::ivec2 tile) { return "tiles/" + tileName(tile); }
 
+// How a GLB `up` folders below the world links the world's material pictures, textures/*.png,
+// which this writes first where they are missing (each job may be the first; they are the same bytes).
+exporters::GltfSettings linkedPictures(const fs::path& worldDir, const std::string& up) {
+    exporters::writeMaterialImages(worldDir / "textures");
+    return {.images = exporters::MaterialImages::kLinked, .imageFolder = up + "textures/"};
+}
+
 // tiles/I_J/city.glb, city.json and trees/: the tile in its own frame (`city --tile` moved to
 // the tile's south-west corner).
 std::vector<std::string> cityJob(const fs::path& worldDir, const WorldPlan& plan, glm::ivec2 tile) {
@@ -71,7 +79,7 @@ std::vector<std::string> cityJob(const fs::path& worldDir, const WorldPlan& plan
     const Scene scene = procgen::takeCityScene(city);
     const fs::path dir = worldDir / tileDir(tile);
     Scratch scratch(dir / "city");
-    exporters::writeGlb(scene, scratch.dir / "city.glb");
+    exporters::writeGlb(scene, scratch.dir / "city.glb", linkedPictures(worldDir, "../../"));
     writeFileAtomically(scratch.dir / "city.json", report);
     for (const procgen::TreeSpecies& s : species)
         exporters::writePivotPainter(exporters::buildPivotPainter(procgen::speciesNodes(s), exporters::PivotPreset::Unreal, s.name),
@@ -119,7 +127,7 @@ std::vector<std::string> bakeJob(const fs::path& worldDir, const WorldPlan& plan
         procgen::City own = procgen::generateCity(tileCitySettings(plan, tile));
         region.cityJson = procgen::cityReportJson(own);
         Scratch scratch(dir / "bake-city");
-        exporters::writeGlb(procgen::takeCityScene(own), scratch.dir / "city.glb");
+        exporters::writeGlb(procgen::takeCityScene(own), scratch.dir / "city.glb", linkedPictures(worldDir, "../../"));
         region.cityGlb = readBinaryFile(scratch.dir / "city.glb");
     }
     procgen::City city = procgen::generateCity(tileCitySettings(plan, tile, plan.settings.halo));
@@ -183,7 +191,7 @@ std::vector<std::string> hlodJob(const fs::path& worldDir, const WorldPlan& plan
     scene.addMeshNode(std::move(result.mesh));
     const std::size_t triangles = scene.meshes.front().triangleCount();
     ensureOutputDirectory(worldDir / "hlod");
-    exporters::writeGlb(scene, worldDir / (hlodFile(node) + ".glb"));
+    exporters::writeGlb(scene, worldDir / (hlodFile(node) + ".glb"), linkedPictures(worldDir, "../"));
     nlohmann::ordered_json j{{"name", name},
                              {"level", node.level},
                              {"origin", {origin.x, origin.y}},

@@ -22,7 +22,8 @@ enum class ReadIn { child, thisProcess };
 // merged, polygons triangulated, points and lines skipped). Chooses the reader by
 // extension: .obj, .gltf, .glb, .off, or any extension Assimp knows. FBX and Collada units and up
 // axes are converted to metres and +Y up; STL, PLY, OFF and OBJ coordinates are taken as
-// metres as they are. Only glTF carries material IDs (COLOR_0); other formats leave
+// metres as they are. Only glTF carries material IDs (_MATERIAL_ID, or an older file's
+// binary COLOR_0); other formats leave
 // materialIds empty. Throws InputError naming the file if it is missing, empty,
 // unparsable, glTF 1.0 or Draco-compressed, has no triangles, a non-finite coordinate or
 // an index out of range; a ReaderFailure if the reader crashed or ran past its limits.

@@ -14,7 +14,8 @@
 
 namespace dawnforge {
 
-// 16 material IDs, written into COLOR_0 as binary RGBA: id = R + 2G + 4B + 8A.
+// 16 material IDs (materials.hpp). Files written before _MATERIAL_ID carried them in COLOR_0
+// as binary RGBA, id = R + 2G + 4B + 8A; the glTF reader still decodes those.
 inline constexpr int kMaterialIdCount = 16;
 glm::u8vec4 materialIdToColor(std::uint8_t id);  // each channel 0 or 255
 std::uint8_t colorToMaterialId(glm::vec4 rgba);  // channels in [0,1], thresholded at 0.5
