@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # consumers.blender: Blender's own glTF importer reads every kind of GLB dawnforge writes, and
-# what it ends up with (objects, meshes, UV maps, colours, triangles, bounds, ...) is checked
-# against figures that share nothing with the product: the GLB read with Python's struct and
-# json, and the JSON reports dawnforge writes beside it (tests/consumers/blender/README.md).
+# what it ends up with (objects, meshes, UV maps, materials, pictures, triangles, bounds, ...) is
+# checked against figures that share nothing with the product: the GLB read with Python's struct
+# and json, and the JSON reports dawnforge writes beside it (tests/consumers/blender/README.md).
 #
 #   bash tests/consumers/blender.sh DAWNFORGE_EXE WORK_DIR
 #

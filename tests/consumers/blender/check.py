@@ -7,12 +7,13 @@
 
 Two kinds of figures, neither from dawnforge's code nor from Blender's:
 - the GLB itself, read with glb.py (expect.py): objects, matrices, vertex and triangle counts,
-  UV maps and their statistics, colour histograms, normals, volume, bounds. This catches a file
-  Blender reads differently from what it holds (a wrong accessor, an axis, an index buffer).
+  material slots and the faces of each, UV maps and their statistics (also per material),
+  normals, volume, bounds, materials and their pictures. This catches a file Blender reads
+  differently from what it holds (a wrong accessor, an axis, an index buffer, a material).
 - the JSON reports dawnforge writes beside it (city.json, fracture.json, _data.json,
   _pivots.json), the input of the step (fragments.glb for the VATs, city.glb for the Pivot
-  Painter files) and the file formats of ARCHITECTURE.md: which UV maps and colours each
-  mesh must have, triangle counts, the lookup and texel UVs, pivots, bounds, volumes, foot
+  Painter files) and the file formats of ARCHITECTURE.md: which UV maps and materials each
+  mesh must have, which files carry pictures, triangle counts, the lookup and texel UVs, pivots, bounds, volumes, foot
   points. These catch a file that is wrong in itself (a missing UV set agrees with itself).
 
 WORK is the folder blender.sh fills: city/ (city.glb, city.json, trees/), fracture/, sim/,
@@ -26,13 +27,14 @@ import struct
 import sys
 from collections import Counter
 
-from expect import FileFigures, to_blender
+from expect import MATERIALS, FileFigures, material_id, to_blender
 import mutate
 
 PRESETS = ("native", "unity", "unreal")
 VAT_SCALE = {"native": 1.0, "unity": 1.0, "unreal": 100.0}
-MATERIALS = ["asphalt", "paving", "brick", "concrete", "plaster", "glass", "metal", "trim", "roof_tiles",
-             "roof_flat", "wood", "interior_wall", "floor", "ground", "sand", "rubble"]
+# The files that embed one picture per material (the rest have plain colours), and its size.
+TEXTURED = ("city", "fragments")
+PICTURE_SIZE = [256, 256]
 UV = ["UVMap", "UVMap.001", "UVMap.002", "UVMap.003"]
 MAX_LINES_PER_FILE = 12
 _FIGURES = {}
@@ -180,6 +182,7 @@ def check_against_file(c, report, fig):
     used = {fig.doc["materials"][p["material"]]["name"] for m in fig.doc.get("meshes", [])
             for p in m["primitives"] if "material" in p}
     c.equal(report["materials"], sorted(used), "materials")
+    check_materials_against_file(c, report, fig)
     c.expect(json_close(report["scene_extras"], fig.scene_extras),
              lambda: "scene custom properties (glTF scene extras): Blender has %s, the file %s" % (
                  report["scene_extras"], fig.scene_extras))
@@ -212,35 +215,116 @@ def check_mesh_against_file(c, name, bm, mf):
     c.equal(bm["vertices"], mf.vertices, "%s: vertices (the ones the indices use)" % name)
     c.equal(bm["triangles"], mf.triangles - mf.degenerate_index_triangles, "%s: triangles" % name)
     c.equal(bm["polygons"], bm["triangles"], "%s: polygons (all triangles)" % name)
+    # One slot per material of the primitives, in their order; each face in its primitive's.
+    c.equal(bm["materials"], mf.slots, "%s: material slots (the primitives' materials)" % name)
+    c.equal(bm["faces_by_material"], dict(mf.triangles_by_material), "%s: faces per material slot "
+            "(the triangles of each primitive)" % name)
     c.equal([u["name"] for u in bm["uv_layers"]], mf.uv_names, "%s: UV maps (one per TEXCOORD_n)" % name)
-    for layer, stats, by_colour in zip(bm["uv_layers"], mf.uv, mf.uv_by_colour):
+    for layer, stats, by_material in zip(bm["uv_layers"], mf.uv, mf.uv_by_material):
         want = stats.as_dict()
         if not want["count"]:
             continue
         what = "%s: %s (u, 1 - v)" % (name, layer["name"])
         c.near(layer["min"] + layer["max"], want["min"] + want["max"], what + " min, max", 1e-6, 1e-5)
         c.near(layer["sum"], want["sum"], what + " sum over corners", 1e-6, 1e-6 * want["count"])
-        if "by_colour" in layer:
-            c.equal(sorted(layer["by_colour"], key=int), sorted((str(k) for k in by_colour), key=int),
-                    what + " colours with UVs")
-            for code, s in by_colour.items():
-                got = layer["by_colour"].get(str(code))
-                if got:
-                    c.near(got["sum"], s.as_dict()["sum"], what + " sum over corners of colour %d" % code,
-                           1e-6, 1e-6 * s.count)
-    c.equal([a["name"] for a in bm["color_attributes"]], mf.colour_names, "%s: colour attributes" % name)
-    for attr, histogram in zip(bm["color_attributes"], mf.histograms):
-        c.equal(attr["domain"], "CORNER", "%s: %s domain" % (name, attr["name"]))
-        c.equal({int(k): v for k, v in attr["histogram"].items()}, dict(histogram),
-                "%s: %s corners per colour (R + 2G + 4B + 8A)" % (name, attr["name"]))
-        c.expect(attr["max_off_binary"] < 1e-6, "%s: %s holds colours other than 0 and 1 (off by %g)" % (
-            name, attr["name"], attr["max_off_binary"]))
-    c.equal(bm["materials"], sorted(mf.materials), "%s: material slots" % name)
+        got_by = layer.get("by_material") or {}
+        want_by = {k: v for k, v in by_material.items() if v.count}
+        c.equal(sorted(got_by), sorted(want_by), what + " materials with UVs")
+        for material, st in want_by.items():
+            got = got_by.get(material)
+            if got:
+                d = st.as_dict()
+                c.equal(got["count"], d["count"], what + " corners of material %s" % material)
+                c.near(got["sum"], d["sum"], what + " sum over corners of material %s" % material, 1e-6, 1e-6 * st.count)
+    # No COLOR_0 any more: no colour attribute; Blender 3.4 imports no custom attribute
+    # (_MATERIAL_ID, _PIECE_ID), so the mesh has no generic attribute but material_index.
+    c.equal([a["name"] for a in bm["color_attributes"]], mf.colour_names, "%s: colour attributes (COLOR_n)" % name)
+    c.equal([a for a in bm["attributes"] if a != "material_index"], mf.colour_names,
+            "%s: generic attributes besides material_index" % name)
+    # The file's own _MATERIAL_ID agrees with its primitives' materials (dawnforge's reader
+    # and engines that read the attribute see the materials Blender shows).
+    c.expect(not mf.material_id_mismatches, lambda: "%s: triangles whose first vertex's _MATERIAL_ID is not their "
+             "primitive's material: %s" % (name, dict(mf.material_id_mismatches)))
     c.equal(bm["has_custom_normals"], mf.has_normals, "%s: custom normals from NORMAL" % name)
     if mf.has_normals and "normal_sum" in bm:
         corners = 3 * mf.triangles
         c.near(bm["normal_sum"], mf.normal_sum, "%s: sum of corner normals" % name, 0.0, 5e-4 * corners + 1e-6)
     c.near(bm["volume"], mf.volume, "%s: enclosed volume" % name, 1e-5, 1e-7)
+
+
+def check_materials_against_file(c, report, fig):
+    """Every material as the file defines it: blend mode, and a base colour that is either the
+    baseColorFactor or an Image Texture node of the file's picture (its size from the PNG's own
+    header, its packed bytes the embedded ones), repeated, through KHR_texture_transform's scale,
+    on UVMap."""
+    want_images = {}
+    nodes = report.get("material_nodes", {})
+    for name, want in fig.material_figures().items():
+        seen = nodes.get(name)
+        if not c.expect(seen is not None, "material %s: not in Blender" % name):
+            continue
+        c.equal(seen.get("blend_method"), want["blend_method"], "material %s: blend mode (alphaMode)" % name)
+        tex = want["texture"]
+        if tex is None:
+            c.equal(seen.get("base_colour_from"), None, "material %s: base colour linked (the file has no texture)" % name)
+            c.near(seen.get("base_colour", [])[:3], want["base_colour"][:3], "material %s: base colour (baseColorFactor RGB)"
+                   % name, 0.0, 1e-6)
+            c.near(seen.get("alpha", -1.0), want["base_colour"][3], "material %s: alpha (baseColorFactor A)" % name, 0.0, 1e-6)
+            continue
+        if not c.equal(seen.get("base_colour_from"), "TEX_IMAGE", "material %s: node feeding the base colour" % name):
+            continue
+        got = seen["base_colour_texture"]
+        c.equal(got["image"], tex["image"], "material %s: base colour image" % name)
+        c.equal(got["extension"], "REPEAT" if tex["repeat"] else "EXTEND", "material %s: image extension (wrapS, wrapT)" % name)
+        c.near(got.get("mapping_scale", [])[:2], tex["scale"], "material %s: Mapping scale (KHR_texture_transform scale)" % name,
+               1e-6, 1e-7)
+        c.equal(got.get("uv_map"), "UVMap" if tex["tex_coord"] == 0 else "UVMap.%03d" % tex["tex_coord"],
+                "material %s: UV map of the texture" % name)
+        if want["base_colour"][3] < 1.0:
+            c.expect(seen.get("alpha_linked"), "material %s: alpha %g but Blender's alpha is not linked" % (
+                name, want["base_colour"][3]))
+        want_images[tex["image"]] = tex
+    images = report.get("images", {})
+    c.equal(sorted(images), sorted(want_images), "images (the textures' pictures)")
+    for image, tex in want_images.items():
+        got = images.get(image)
+        if not got:
+            continue
+        c.equal(got["size"], tex["size"], "image %s: size (the embedded PNG's header)" % image)
+        c.equal(got["packed_bytes"], tex["embedded_bytes"], "image %s: packed bytes (the embedded picture's)" % image)
+
+
+def check_picture_format(c, report, fig, textured):
+    """The file formats: city.glb and fragments.glb embed one 256x256 PNG per material, its base
+    colour texture; every other GLB has plain colours and no image."""
+    wants = fig.material_figures()
+    nodes = report.get("material_nodes", {})
+    if textured:
+        for name, want in sorted(wants.items()):
+            tex = want["texture"]
+            c.expect(tex is not None and tex["mime_type"] == "image/png" and tex["embedded_bytes"],
+                     "material %s: no embedded PNG base colour texture" % name)
+            got = (nodes.get(name) or {}).get("base_colour_texture")
+            image = (report.get("images") or {}).get(got["image"]) if got and got.get("image") else None
+            c.expect(image is not None and image["size"] == PICTURE_SIZE,
+                     "material %s: Blender's base colour is no %dx%d picture (%s)" % (
+                         name, PICTURE_SIZE[0], PICTURE_SIZE[1], image["size"] if image else got))
+            c.expect(got is not None and all(0 < v < 1.0 + 1e-9 for v in got.get("mapping_scale", [0])[:2]),
+                     "material %s: the picture repeats every %s of UVMap, expected 1 m or more" % (
+                         name, got.get("mapping_scale") if got else None))
+        c.equal(len(report.get("images", {})), len(wants), "images (one per material)")
+    else:
+        c.equal(len(report.get("images", {})), 0, "images (plain colours)")
+        for name, want in sorted(wants.items()):
+            c.equal((nodes.get(name) or {}).get("base_colour_from"), None, "material %s: base colour linked" % name)
+
+
+def faces_by_id(faces_by_material):
+    """{material ID: faces} from {material name: faces} (brick_0 and brick_3 both brick)."""
+    out = Counter()
+    for name, n in faces_by_material.items():
+        out[material_id(name)] += n
+    return dict(out)
 
 
 # --------------------------------------------------------------------------------------------
@@ -302,15 +386,21 @@ def check_city(c, report, fig, work):
             bm = report["meshes"][child["data"]]
             c.equal(bm["triangles"], b["triangles"][lod], "%s_%s: triangles (city.json)" % (name, lod))
             c.equal([u["name"] for u in bm["uv_layers"]], UV[:3], "%s_%s: UV maps (TEXCOORD_0..2)" % (name, lod))
-            c.equal([a["name"] for a in bm["color_attributes"]], ["Col"], "%s_%s: colour attributes" % (name, lod))
+            c.equal([a["name"] for a in bm["color_attributes"]], [], "%s_%s: colour attributes (none since COLOR_0 went)" % (name, lod))
+            c.expect(bm["materials"] and all(material_id(m) is not None for m in bm["materials"]),
+                     "%s_%s: material slots %s, expected materials named after IDs" % (name, lod, bm["materials"]))
             check_room_uvs(c, "%s_%s" % (name, lod), bm, sum(b["rooms_per_floor"]))
         lod0 = blender_mesh(report, name + "_lod0")
         if lod0:
-            hist = {int(k): v for k, v in lod0["color_attributes"][0]["histogram"].items()} if lod0["color_attributes"] else {}
+            faces = faces_by_id(lod0["faces_by_material"])
             for kind, material in (("window", "glass"), ("door", "wood")):
                 parts = sum(p[3] for p in b["parts"] if p[0] == kind)
-                c.equal(hist.get(MATERIALS.index(material), 0), 3 * parts,
-                        "%s_lod0: corners of %s (the %s parts of city.json)" % (name, material, kind))
+                c.equal(3 * faces.get(MATERIALS.index(material), 0), 3 * parts,
+                        "%s_lod0: corners in the %s slot (the %s parts of city.json)" % (name, material, kind))
+            # Brick and plaster carry the building's colour variant, one per building.
+            variants = {m for m in lod0["materials"] if material_id(m) in (2, 4)}
+            c.expect(len({m.rpartition("_")[2] for m in variants}) <= 1 and all(m.rpartition("_")[2].isdigit() for m in variants),
+                     "%s_lod0: walls %s, expected brick_N / plaster_N of one variant" % (name, sorted(variants)))
             c.expect(lod0["volume"] > 0, "%s_lod0: its closed parts enclose no volume (%g)" % (name, lod0["volume"]))
     winding_done = set()
     for name, ob in objs.items():
@@ -324,10 +414,11 @@ def check_city(c, report, fig, work):
         tri[{"land": "ground", "tree": "dressing", "lamp": "dressing"}.get(group, group)] += bm["triangles"]
         if group not in ("lod0", "lod1"):
             c.equal([u["name"] for u in bm["uv_layers"]], UV[:1], "%s: UV maps (TEXCOORD_0 only)" % name)
-            c.equal([a["name"] for a in bm["color_attributes"]], ["Col"], "%s: colour attributes" % name)
+            c.equal([a["name"] for a in bm["color_attributes"]], [], "%s: colour attributes (none since COLOR_0 went)" % name)
     for key in ("lod0", "lod1", "ground", "dressing"):
         c.equal(tri[key], city["counts"]["triangles"][key], "triangles of all %s meshes (city.json counts)" % key)
     c.equal(sum(1 for n in objs if n.endswith("_lod0")), city["counts"]["buildings"], "buildings (city.json counts)")
+    check_picture_format(c, report, fig, True)
     # Trees and lamps stand where city.json says: glTF (x, h, -y) is Blender (x, y, h).
     species = {s["name"]: s for s in city["tree_species"]}
     for t in city["trees"]:
@@ -369,10 +460,10 @@ def check_room_uvs(c, name, bm, rooms):
     elsewhere; Blender shows (u, 1 - v)."""
     for layer_name in UV[1:3]:
         layer = uv_layer(bm, layer_name)
-        if layer is None or "by_colour" not in layer:
+        if layer is None or "by_material" not in layer:
             continue
-        for code, s in layer["by_colour"].items():
-            if int(code) != MATERIALS.index("glass"):
+        for material, s in layer["by_material"].items():
+            if material_id(material) != MATERIALS.index("glass"):
                 c.equal(s["min"] + s["max"], [0.0, 1.0, 0.0, 1.0], "%s: %s off the glass" % (name, layer_name))
             elif layer_name == "UVMap.001":
                 c.expect(s["min"][0] > 0 and 1.0 - s["min"][1] <= rooms - 1 + 1e-6 and s["max"][1] <= 1.0,
@@ -393,14 +484,13 @@ def check_winding(c, name, bm, flat=False):
     """Every corner's normal on the front side of its face (glTF: counter-clockwise is the
     front); with `flat`, equal to the face's normal. Procgen's tubes (trunks, branches, lamp
     poles) were wound inside out until this check found them."""
-    for code, d in sorted((bm.get("normal_face_dot_by_colour") or {}).items(), key=lambda kv: int(kv[0])):
-        code = int(code)
-        c.expect(d["opposed_corners"] == 0, "%s: %d of %d corners of material %d (%s) face against their "
+    for material, d in sorted((bm.get("normal_face_dot_by_material") or {}).items()):
+        c.expect(d["opposed_corners"] == 0, "%s: %d of %d corners of material %s face against their "
                  "triangle's winding (normal . face normal down to %.3f)" % (
-                     name, d["opposed_corners"], d["corners"], code, MATERIALS[code], d["min"]))
+                     name, d["opposed_corners"], d["corners"], material, d["min"]))
         if flat:
-            c.expect(d["min"] > 0.999, "%s: material %d: corner normals differ from the flat face normal "
-                     "(normal . face normal down to %.4f)" % (name, code, d["min"]))
+            c.expect(d["min"] > 0.999, "%s: material %s: corner normals differ from the flat face normal "
+                     "(normal . face normal down to %.4f)" % (name, material, d["min"]))
 
 
 def texel_centres(n, width, height):
@@ -435,7 +525,7 @@ def check_species(c, report, fig, work, rel):
     check_pivot_layout(c, species, pp, len(elements))
     c.equal([u["name"] for u in bm["uv_layers"]][:2], UV[:2], "UV maps (TEXCOORD_0, TEXCOORD_1 the texel)")
     expected = Counter()
-    colours = Counter()
+    materials = Counter()
     triangles = 0
     for element, uv in zip(elements, texel_centres(len(elements), pp["width"], pp["height"])):
         index = mesh_index.get("tree_%s_%s" % (species, element["name"]))
@@ -444,17 +534,19 @@ def check_species(c, report, fig, work, rel):
         mf = city_fig.mesh(index)
         triangles += mf.triangles
         expected[uv] += 3 * mf.triangles
-        colours.update(mf.histograms[0] if mf.histograms else {})
+        materials.update(faces_by_id(mf.triangles_by_material))
     c.equal(bm["triangles"], triangles, "triangles (the species' element meshes in city.glb)")
     check_uv_points(c, bm, "UVMap.001", expected, "texels (each element's corners at its texel)")
-    check_colours(c, bm, colours, "the species' element meshes in city.glb")
+    check_materials(c, bm, materials, "the species' element meshes in city.glb")
+    check_picture_format(c, report, fig, False)
     check_winding(c, species, bm)
 
 
-def check_colours(c, bm, want, source):
-    if c.equal([a["name"] for a in bm["color_attributes"]], ["Col"], "colour attributes (COLOR_0)"):
-        c.equal({int(k): v for k, v in bm["color_attributes"][0]["histogram"].items()}, dict(want),
-                "corners per material (%s)" % source)
+def check_materials(c, bm, want, source):
+    """Blender's faces per material (by ID: the variants of brick and plaster may differ) against
+    the triangles of each material in `source`."""
+    c.equal([a["name"] for a in bm["color_attributes"]], [], "colour attributes (none since COLOR_0 went)")
+    c.equal(faces_by_id(bm["faces_by_material"]), dict(want), "faces per material ID (%s)" % source)
 
 
 def check_pivots(c, report, fig, work, rel):
@@ -476,10 +568,11 @@ def check_pivots(c, report, fig, work, rel):
     check_uv_points(c, bm, "UVMap.001", expected, "texels (each element's corners at its texel)")
     c.equal(bm["triangles"], sum(city_fig.mesh(city_fig.objects[n]["mesh"]).triangles for n in mesh_objects),
             "triangles (all of city.glb's mesh nodes)")
-    colours = Counter()
+    materials = Counter()
     for n in mesh_objects:
-        colours.update(city_fig.mesh(city_fig.objects[n]["mesh"]).histograms[0])
-    check_colours(c, bm, colours, "all of city.glb's mesh nodes")
+        materials.update(faces_by_id(city_fig.mesh(city_fig.objects[n]["mesh"]).triangles_by_material))
+    check_materials(c, bm, materials, "all of city.glb's mesh nodes")
+    check_picture_format(c, report, fig, False)
     # The elements keep their triangles' winding: the same corners face against it here as in
     # Blender's city.glb (none, since the tubes were fixed).
     city_report = report.get("_city_report")
@@ -488,10 +581,12 @@ def check_pivots(c, report, fig, work, rel):
         for n in mesh_objects:
             ob = city_report["objects"].get(n)
             m = city_report["meshes"].get(ob["data"]) if ob else None
-            for code, d in ((m or {}).get("normal_face_dot_by_colour") or {}).items():
-                inward[int(code)] += d["opposed_corners"]
-        seen = {int(k): d["opposed_corners"] for k, d in (bm.get("normal_face_dot_by_colour") or {}).items()
-                if d["opposed_corners"]}
+            for material, d in ((m or {}).get("normal_face_dot_by_material") or {}).items():
+                inward[material_id(material)] += d["opposed_corners"]
+        seen = Counter()
+        for material, d in (bm.get("normal_face_dot_by_material") or {}).items():
+            seen[material_id(material)] += d["opposed_corners"]
+        seen = {k: v for k, v in seen.items() if v}
         c.equal(seen, {k: v for k, v in inward.items() if v}, "corners facing against their winding, per material "
                 "(as in Blender's city.glb)")
     lo = [math.inf] * 3
@@ -540,14 +635,15 @@ def check_fragments(c, report, fig, work):
         total += bm["volume"]
         c.equal([u["name"] for u in bm["uv_layers"]], UV[:1], "%s: UV maps (TEXCOORD_0)" % p["name"])
         check_winding(c, p["name"], bm, flat=True)
-        c.equal([a["name"] for a in bm["color_attributes"]], ["Col"], "%s: colour attributes (COLOR_0)" % p["name"])
-        codes = {int(k) for k in bm["color_attributes"][0]["histogram"]} if bm["color_attributes"] else set()
-        # The input (an OBJ) has no colours: outer faces material 0, cut faces the interior one.
+        c.equal([a["name"] for a in bm["color_attributes"]], [], "%s: colour attributes (none since COLOR_0 went)" % p["name"])
+        codes = set(faces_by_id(bm["faces_by_material"]))
+        # The input (an OBJ) has no materials: outer faces material 0, cut faces the interior one.
         c.expect(codes <= {0, fracture["settings"]["interior_material"]} and fracture["settings"]["interior_material"] in codes,
                  "%s: materials %s, expected the outside's 0 and the cut faces' %d" % (
                      p["name"], sorted(codes), fracture["settings"]["interior_material"]))
     c.near(total, fracture["volume"], "volume of all pieces (fracture.json volume)", 1e-5, 0.0)
     c.near(total, fracture["input"]["volume"], "volume of all pieces (the input's)", 1e-5, 0.0)
+    check_picture_format(c, report, fig, True)
 
 
 def half_bits(x):
@@ -586,22 +682,28 @@ def check_vat(c, report, fig, work, rel):
     c.equal(bm["triangles"], sum(p["triangles"] for p in pieces) + data_tris, "triangles (fracture.json's and the data triangles)")
     c.near(bm["volume"], fracture["volume"], "volume (the rest pose: fracture.json volume)", 1e-5, 1e-6)
     c.equal([u["name"] for u in bm["uv_layers"]], UV, "UV maps (TEXCOORD_0..3)")
-    c.equal([a["name"] for a in bm["color_attributes"]], ["Col"], "colour attributes (COLOR_0)")
-    # Flat normals facing out, but on the data triangles (material 0), which are not drawn.
-    faces = bm.get("normal_face_dot_by_colour") or {}
-    for code, d in sorted(faces.items(), key=lambda kv: int(kv[0])):
-        allowed = 3 * data_tris if int(code) == 0 else 0
+    c.equal([a["name"] for a in bm["color_attributes"]], [], "colour attributes (none since COLOR_0 went)")
+    # One slot: the engines' VAT shaders draw the mesh, so it keeps one primitive ("default").
+    c.equal(bm["materials"], ["default"], "material slots (one primitive of the plain material)")
+    check_picture_format(c, report, fig, False)
+    # Flat normals facing out, but on the data triangles, which are not drawn.
+    faces = bm.get("normal_face_dot_by_material") or {}
+    for material, d in sorted(faces.items()):
+        allowed = 3 * data_tris
         c.expect(d["unflat_corners"] <= allowed and d["opposed_corners"] <= allowed,
                  "%s: material %s: %d corners face against their triangle's winding and %d differ from the flat "
                  "face normal (normal . face normal down to %.4f); the data triangles account for %d" % (
-                     data["name"], code, d["opposed_corners"], d["unflat_corners"], d["min"], allowed))
-    if bm["color_attributes"]:
+                     data["name"], material, d["opposed_corners"], d["unflat_corners"], d["min"], allowed))
+    # The material IDs stay in _MATERIAL_ID, which Blender does not import: the file's corners
+    # per ID are fragments.glb's, and 0 on the data triangles.
+    mesh_index = fig.objects.get(data["name"], {}).get("mesh")
+    if mesh_index is not None:
         want = Counter()
         for name in fragments.order:
-            want.update(fragments.mesh(fragments.objects[name]["mesh"]).histograms[0])
+            want.update(fragments.mesh(fragments.objects[name]["mesh"]).material_id_corners)
         want[0] += 3 * data_tris
-        c.equal({int(k): v for k, v in bm["color_attributes"][0]["histogram"].items()}, dict(want),
-                "corners per material (fragments.glb's, and 0 on the data triangles)")
+        c.equal(dict(fig.mesh(mesh_index).material_id_corners), dict(want),
+                "the file's _MATERIAL_ID corners per ID (fragments.glb's, and 0 on the data triangles)")
     n, w, height = data["pieces"], data["W"], data["height"]
     c.equal(n, len(pieces), "_data.json pieces")
     rows = math.ceil(n / w)
@@ -709,8 +811,9 @@ def summary_line(report):
     meshes = report.get("meshes", {})
     uv = sorted({u["name"] for m in meshes.values() for u in m["uv_layers"]})
     col = sorted({a["name"] for m in meshes.values() for a in m["color_attributes"]})
-    return "%d objects, %d meshes, %d triangles, UV maps %s, colours %s" % (
-        len(objs), len(meshes), sum(m["triangles"] for m in meshes.values()), "/".join(uv) or "none", "/".join(col) or "none")
+    return "%d objects, %d meshes, %d triangles, UV maps %s, colours %s, %d materials, %d images" % (
+        len(objs), len(meshes), sum(m["triangles"] for m in meshes.values()), "/".join(uv) or "none",
+        "/".join(col) or "none", len(report.get("materials", [])), len(report.get("images", {})))
 
 
 def run_checks(work, report_path):

@@ -1,7 +1,9 @@
 """What Blender should show for a GLB, worked out from the file itself with glb.py (no Blender,
 no dawnforge code): the objects of the scene's node tree, their world matrices, and for every
-mesh its vertex and triangle counts, per-corner UV statistics, colour histogram, normal sum and
-volume, all in Blender's terms.
+mesh its vertex and triangle counts, material slots and the triangles of each, per-corner UV
+statistics (also per material), normal sum and volume, all in Blender's terms; and for every
+material what its base colour should come from (a value, or an embedded picture of a size read
+from the PNG's own header).
 
 Blender's glTF importer (io_scene_gltf2, Blender 3.4, default options) is assumed to:
 - make one object per node of the scene (a node without a mesh becomes an EMPTY), named like
@@ -12,11 +14,20 @@ Blender's glTF importer (io_scene_gltf2, Blender 3.4, default options) is assume
   one face per index triple, in index order (so corners follow the index buffer);
 - make a UV map per TEXCOORD_n, n = 0, 1, ... while the set exists, named UVMap, UVMap.001, ...
   and holding (u, 1 - v);
-- make a colour attribute "Col" on the face corners from COLOR_0;
-- set the normals as custom split normals.
+- make a colour attribute "Col" on the face corners from COLOR_0 (dawnforge writes none since
+  the material ID became the custom attribute _MATERIAL_ID: no colour attribute is expected);
+- leave out attributes whose names start with "_" (_MATERIAL_ID, _PIECE_ID): Blender 3.4 imports
+  no custom attributes;
+- give a mesh one material slot per distinct material of its primitives, in primitive order,
+  and each face the slot of its primitive's material;
+- set the normals as custom split normals;
+- make each material a Principled BSDF whose base colour is baseColorFactor, or, with a
+  baseColorTexture, an Image Texture node of image "Image_<source>" (the images have no names)
+  fed through a Mapping node with KHR_texture_transform's scale.
 """
 
 import math
+import struct
 from collections import Counter
 
 from glb import Glb
@@ -72,15 +83,26 @@ def det3(m):
             + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
 
 
-_CODES = {}
+MATERIALS = ["asphalt", "paving", "brick", "concrete", "plaster", "glass", "metal", "trim", "roof_tiles",
+             "roof_flat", "wood", "interior_wall", "floor", "ground", "sand", "rubble"]
 
 
-def colour_code(rgba):
-    """The material ID a colour carries: R + 2G + 4B + 8A, each channel thresholded at 0.5."""
-    code = _CODES.get(rgba)
-    if code is None:
-        code = _CODES[rgba] = sum(1 << i for i in range(4) if rgba[i] > 0.5)
-    return code
+def material_id(name):
+    """The material ID (0..15) a glTF material's name stands for ("brick_2": brick, 2), or None
+    ("default", or no name)."""
+    if not name:
+        return None
+    base, _, suffix = name.rpartition("_")
+    if base and suffix.isdigit():
+        name = base
+    return MATERIALS.index(name) if name in MATERIALS else None
+
+
+def png_size(data):
+    """(width, height) from a PNG's IHDR chunk, or None when the bytes are no PNG."""
+    if len(data) < 24 or data[:8] != b"\x89PNG\r\n\x1a\n" or data[12:16] != b"IHDR":
+        return None
+    return list(struct.unpack(">II", data[16:24]))
 
 
 class Stats:
@@ -123,17 +145,24 @@ class MeshFigures:
         self.degenerate_index_triangles = 0  # a repeated index: Blender's validate() drops them
         self.positions = []  # the positions the indices use (glTF axes, the mesh's own space)
         prims = [p for p in mesh["primitives"] if "POSITION" in p["attributes"]]
+        self.primitives = len(prims)
         num_uvs = max((self._count_sets(p, "TEXCOORD_") for p in prims), default=0)
         num_cols = max((self._count_sets(p, "COLOR_") for p in prims), default=0)
         self.uv_names = ["UVMap" if i == 0 else "UVMap.%03d" % i for i in range(num_uvs)]
         self.colour_names = ["Col" if i == 0 else "Col.%03d" % i for i in range(num_cols)]
         self.uv = [Stats() for _ in range(num_uvs)]
-        self.uv_by_colour = [{} for _ in range(num_uvs)]
-        self.histograms = [Counter() for _ in range(num_cols)]
+        self.uv_by_material = [{} for _ in range(num_uvs)]
         self.normal_sum = [0.0, 0.0, 0.0]
         self.volume = 0.0
         self.has_normals = any("NORMAL" in p["attributes"] for p in prims)
-        self.materials = set()
+        # Material slots: each distinct material of the primitives, in primitive order (None for
+        # a primitive without one); the faces Blender keeps of each.
+        self.slots = []
+        self.triangles_by_material = Counter()
+        # From _MATERIAL_ID, which Blender does not import: the IDs per corner, and the triangles
+        # whose first vertex's ID is not the ID their primitive's material is named after.
+        self.material_id_corners = Counter()
+        self.material_id_mismatches = Counter()
         for prim in prims:
             if prim.get("mode", 4) != 4:
                 raise ValueError("%s: mesh %d: only triangle primitives are expected" % (glb.path, mesh_index))
@@ -144,43 +173,37 @@ class MeshFigures:
             self.vertices += len(used)
             self.positions.extend(pos[i] for i in used)
             self.triangles += len(idx) // 3
-            if "material" in prim:
-                self.materials.add(glb.json["materials"][prim["material"]].get("name"))
+            material = glb.json["materials"][prim["material"]].get("name") if "material" in prim else None
+            if material not in self.slots:
+                self.slots.append(material)
+            ids = glb.accessor(attrs["_MATERIAL_ID"]) if "_MATERIAL_ID" in attrs else None
+            want_id = material_id(material)
             for t in range(0, len(idx), 3):
                 a, b, c = idx[t], idx[t + 1], idx[t + 2]
                 if a == b or b == c or a == c:
                     self.degenerate_index_triangles += 1
+                else:
+                    self.triangles_by_material[material] += 1
+                if ids is not None and want_id is not None and ids[a] != want_id:
+                    self.material_id_mismatches[material] += 1
                 p0, p1, p2 = pos[a], pos[b], pos[c]
                 self.volume += (p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0])
                                 + p0[2] * (p1[0] * p2[1] - p1[1] * p2[0])) / 6.0
             # Every per-vertex value counts once per corner that uses the vertex.
             uses = Counter(idx)
-            codes = None
-            if num_cols:
-                colours = glb.accessor(attrs["COLOR_0"]) if "COLOR_0" in attrs else None
-                codes = {i: colour_code(colours[i]) if colours else 15 for i in uses}
-            for n in range(num_cols):
-                key = "COLOR_%d" % n
-                if key in attrs:
-                    values = glb.accessor(attrs[key])
-                    for i, k in uses.items():
-                        self.histograms[n][colour_code(values[i])] += k
-                else:
-                    self.histograms[n][15] += len(idx)  # Blender fills a missing set with white
+            if ids is not None:
+                for i, k in uses.items():
+                    self.material_id_corners[ids[i]] += k
             for n in range(num_uvs):
                 key = "TEXCOORD_%d" % n
                 values = glb.accessor(attrs[key]) if key in attrs else None
-                by_colour = self.uv_by_colour[n]
+                by_material = self.uv_by_material[n].setdefault(material, Stats())
                 stats = self.uv[n]
                 for i, k in uses.items():
                     u, v = values[i] if values else (0.0, 0.0)
                     v = 1.0 - v
                     stats.add(u, v, k)
-                    if codes is not None:
-                        code = codes[i]
-                        if code not in by_colour:
-                            by_colour[code] = Stats()
-                        by_colour[code].add(u, v, k)
+                    by_material.add(u, v, k)
             if "NORMAL" in attrs:
                 normals = glb.accessor(attrs["NORMAL"])
                 for i, k in uses.items():
@@ -228,6 +251,37 @@ class FileFigures:
 
         for root in scene.get("nodes", []):
             visit(root, None, identity())
+
+    def material_figures(self):
+        """name -> what Blender's material of that name should show: blend_method, and either
+        base_colour (RGBA) or texture: image name, PNG size, embedded bytes, mapping scale."""
+        out = {}
+        for m in self.doc.get("materials", []):
+            pbr = m.get("pbrMetallicRoughness", {})
+            want = {"blend_method": "BLEND" if m.get("alphaMode") == "BLEND" else "OPAQUE",
+                    "base_colour": list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])), "texture": None}
+            info = pbr.get("baseColorTexture")
+            if info is not None:
+                source = self.doc["textures"][info["index"]]["source"]
+                image = self.doc["images"][source]
+                data = b""
+                if "bufferView" in image:
+                    view = self.doc["bufferViews"][image["bufferView"]]
+                    data = self.glb.bin[view.get("byteOffset", 0): view.get("byteOffset", 0) + view["byteLength"]]
+                transform = info.get("extensions", {}).get("KHR_texture_transform", {})
+                sampler = self.doc["samplers"][self.doc["textures"][info["index"]]["sampler"]] \
+                    if "sampler" in self.doc["textures"][info["index"]] else {}
+                want["texture"] = {
+                    "image": image.get("name") or "Image_%d" % source,
+                    "mime_type": image.get("mimeType"),
+                    "embedded_bytes": len(data) if "bufferView" in image else None,
+                    "size": png_size(data),
+                    "scale": list(transform.get("scale", [1.0, 1.0])),
+                    "tex_coord": info.get("texCoord", 0),
+                    "repeat": sampler.get("wrapS", 10497) == 10497 and sampler.get("wrapT", 10497) == 10497,
+                }
+            out[m.get("name")] = want
+        return out
 
     def mesh(self, index):
         if index not in self._meshes:

@@ -6,9 +6,12 @@
 #
 # Per file: the objects (type, parent, mesh, world matrix, world-space bounds of the mesh's
 # vertices, custom properties, which is where the importer puts node extras), the meshes
-# (vertex and triangle counts; UV maps in order with per-corner statistics; colour attributes
-# with a histogram of their corner colours, each channel rounded to 0 or 1; the sum of the
-# loop normals), the materials, and the scene's custom properties (the scene extras).
+# (vertex and triangle counts; material slots in order and the faces of each; UV maps in order
+# with per-corner statistics, also per material slot; colour attributes; the generic
+# attributes; the sum of the loop normals and how they agree with the winding, per slot), the
+# materials (blend mode, base colour: its value or the image texture that feeds it, with its
+# UV map and mapping), the images (size, packed bytes) and the scene's custom properties (the
+# scene extras).
 #
 # Debian's Blender 3.4 runs its bundled importer against the system NumPy; from NumPy 1.24 on,
 # `np.bool` is gone and the importer fails on every mesh (set_poly_smoothing). The alias is
@@ -53,7 +56,7 @@ def stats(values):
             "sum": values.sum(axis=0).tolist(), "count": int(len(values))}
 
 
-def uv_layer_report(mesh, layer, corner_codes):
+def uv_layer_report(mesh, layer, corner_slots):
     n = len(mesh.loops)
     uv = numpy.empty(n * 2, dtype=numpy.float32)
     layer.data.foreach_get("uv", uv)
@@ -64,11 +67,9 @@ def uv_layer_report(mesh, layer, corner_codes):
         # Distinct UVs (exact float values) with their corner counts: lookup and texel UVs.
         out.update(distinct_rows(uv))
         uv = uv.astype(numpy.float64)
-        # The same statistics for the corners of each colour (material ID) of the first colour
-        # attribute, when there is one on the corners.
-        if corner_codes is not None:
-            out["by_colour"] = {str(int(code)): stats(uv[corner_codes == code])
-                                for code in numpy.unique(corner_codes)}
+        # The same statistics for the corners of each material slot (by the slot's material name).
+        if corner_slots is not None:
+            out["by_material"] = {slot_name(mesh, k): stats(uv[corner_slots == k]) for k in numpy.unique(corner_slots)}
     return out
 
 
@@ -94,24 +95,73 @@ def uv_rows(mesh):
     return dict(distinct_rows(numpy.hstack(columns)), layers=[layer.name for layer in layers])
 
 
-def colour_codes(attribute):
-    """Each value's colour as a 4-bit code, each channel rounded to 0 or 1: R + 2G + 4B + 8A."""
+def slot_name(mesh, index):
+    """A material slot's material name ("" for an empty slot, "#k" for a face beyond the slots)."""
+    index = int(index)
+    if index >= len(mesh.materials):
+        return "#%d" % index
+    material = mesh.materials[index]
+    return material.name if material else ""
+
+
+def face_loops(mesh):
+    """(loops, faces): every corner's loop index and the face it belongs to, face by face."""
+    count = len(mesh.polygons)
+    starts = numpy.empty(count, dtype=numpy.int64)
+    totals = numpy.empty(count, dtype=numpy.int64)
+    mesh.polygons.foreach_get("loop_start", starts)
+    mesh.polygons.foreach_get("loop_total", totals)
+    loops = numpy.concatenate([numpy.arange(s, s + t) for s, t in zip(starts, totals)] or [starts]) \
+        if count and not (totals == 3).all() else (starts[:, None] + numpy.arange(3)).ravel()
+    return loops, numpy.repeat(numpy.arange(count), totals)
+
+
+def colour_report(attribute):
     count = len(attribute.data)
     rgba = numpy.empty(count * 4, dtype=numpy.float32)
     attribute.data.foreach_get("color", rgba)
     rgba = rgba.reshape(count, 4)
-    bits = (rgba > 0.5).astype(numpy.int64)
-    return rgba, bits[:, 0] + 2 * bits[:, 1] + 4 * bits[:, 2] + 8 * bits[:, 3]
-
-
-def colour_report(attribute):
-    rgba, codes = colour_codes(attribute)
-    values, counts = numpy.unique(codes, return_counts=True)
-    # How far any channel is from 0 or 1 (our COLOR_0 holds only 0 and 255).
-    off = float(numpy.abs(rgba - numpy.round(rgba)).max()) if len(rgba) else 0.0
     return {"name": attribute.name, "domain": attribute.domain, "data_type": attribute.data_type,
-            "values": int(len(rgba)), "histogram": {str(int(v)): int(c) for v, c in zip(values, counts)},
-            "max_off_binary": off}
+            "values": int(count), "min": rgba.min(axis=0).tolist() if count else None,
+            "max": rgba.max(axis=0).tolist() if count else None}
+
+
+def socket_source(socket):
+    """The node that feeds an input socket (None when the socket is not linked)."""
+    return socket.links[0].from_node if socket.is_linked else None
+
+
+def material_report(material):
+    """The blend mode and what the Principled BSDF's base colour and alpha come from: a value, or
+    an image texture node (its image, extension, UV map node and Mapping node)."""
+    out = {"blend_method": material.blend_method, "use_nodes": bool(material.use_nodes)}
+    if not material.use_nodes or material.node_tree is None:
+        return out
+    bsdf = next((n for n in material.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if bsdf is None:
+        return out
+    base = bsdf.inputs["Base Color"]
+    out["base_colour"] = [float(v) for v in base.default_value]
+    out["alpha"] = float(bsdf.inputs["Alpha"].default_value)
+    out["alpha_linked"] = bool(bsdf.inputs["Alpha"].is_linked)
+    node = socket_source(base)
+    out["base_colour_from"] = node.type if node else None
+    if node is not None and node.type == "TEX_IMAGE":
+        tex = {"image": node.image.name if node.image else None, "extension": node.extension,
+               "interpolation": node.interpolation}
+        feed = socket_source(node.inputs["Vector"])
+        if feed is not None and feed.type == "MAPPING":
+            tex["mapping_scale"] = [float(v) for v in feed.inputs["Scale"].default_value]
+            tex["mapping_location"] = [float(v) for v in feed.inputs["Location"].default_value]
+            feed = socket_source(feed.inputs["Vector"])
+        tex["uv_map"] = feed.uv_map if feed is not None and feed.type == "UVMAP" else None
+        out["base_colour_texture"] = tex
+    return out
+
+
+def image_report(image):
+    return {"size": [int(v) for v in image.size], "source": image.source,
+            "packed_bytes": int(image.packed_file.size) if image.packed_file else None}
 
 
 def signed_volume(mesh):
@@ -131,20 +181,26 @@ def signed_volume(mesh):
 def mesh_report(mesh):
     mesh.calc_loop_triangles()
     colours = list(mesh.color_attributes)
-    corner_codes = None
-    if colours and colours[0].domain == "CORNER":
-        corner_codes = colour_codes(colours[0])[1]
+    # Each corner's material slot (its face's material_index), and the faces of each slot.
+    count = len(mesh.polygons)
+    loops, faces = face_loops(mesh)
+    material_index = numpy.empty(count, dtype=numpy.int64)
+    mesh.polygons.foreach_get("material_index", material_index)
+    corner_slots = numpy.empty(len(mesh.loops), dtype=numpy.int64)
+    corner_slots[loops] = material_index[faces]
+    slots, slot_faces = numpy.unique(material_index, return_counts=True)
     out = {
         "vertices": len(mesh.vertices),
-        "polygons": len(mesh.polygons),
+        "polygons": count,
         "triangles": len(mesh.loop_triangles),
         "corners": len(mesh.loops),
         "volume": signed_volume(mesh),
-        "uv_layers": [uv_layer_report(mesh, layer, corner_codes) for layer in mesh.uv_layers],
+        "uv_layers": [uv_layer_report(mesh, layer, corner_slots) for layer in mesh.uv_layers],
         "uv_rows": uv_rows(mesh),
         "color_attributes": [colour_report(a) for a in colours],
         "attributes": sorted(a.name for a in mesh.attributes if not a.name.startswith(".")),
         "materials": [m.name if m else None for m in mesh.materials],
+        "faces_by_material": {slot_name(mesh, k): int(n) for k, n in zip(slots, slot_faces)},
         "has_custom_normals": bool(mesh.has_custom_normals),
     }
     if len(mesh.loops):
@@ -154,32 +210,23 @@ def mesh_report(mesh):
         normals = normals.reshape(-1, 3).astype(numpy.float64)
         out["normal_sum"] = normals.sum(axis=0).tolist()
         # How each corner's normal agrees with the normal its face's winding gives (faces of
-        # zero area, which have none, left out), over all corners and per colour.
-        count = len(mesh.polygons)
+        # zero area, which have none, left out), per material slot.
         face_normals = numpy.empty(count * 3, dtype=numpy.float32)
         mesh.polygons.foreach_get("normal", face_normals)
         areas = numpy.empty(count, dtype=numpy.float32)
         mesh.polygons.foreach_get("area", areas)
-        starts = numpy.empty(count, dtype=numpy.int64)
-        totals = numpy.empty(count, dtype=numpy.int64)
-        mesh.polygons.foreach_get("loop_start", starts)
-        mesh.polygons.foreach_get("loop_total", totals)
-        loops = numpy.concatenate([numpy.arange(s, s + t) for s, t in zip(starts, totals)] or [starts]) \
-            if count and not (totals == 3).all() else (starts[:, None] + numpy.arange(3)).ravel()
-        faces = numpy.repeat(numpy.arange(count), totals)
         dots = numpy.einsum("ij,ij->i", normals[loops], face_normals.reshape(-1, 3)[faces].astype(numpy.float64))
         keep = areas[faces] > 1e-12
         out["normal_face_dot"] = ({"min": float(dots[keep].min()), "mean": float(dots[keep].mean())}
                                   if keep.any() else None)
-        if corner_codes is not None:
-            codes = corner_codes[loops]
-            out["normal_face_dot_by_colour"] = {
-                str(int(code)): {"min": float(dots[keep & (codes == code)].min()),
-                                 "mean": float(dots[keep & (codes == code)].mean()),
-                                 "opposed_corners": int((dots[keep & (codes == code)] < 0).sum()),
-                                 "unflat_corners": int((dots[keep & (codes == code)] < 0.999).sum()),
-                                 "corners": int((keep & (codes == code)).sum())}
-                for code in numpy.unique(codes[keep])}
+        codes = corner_slots[loops]
+        out["normal_face_dot_by_material"] = {
+            slot_name(mesh, k): {"min": float(dots[keep & (codes == k)].min()),
+                                 "mean": float(dots[keep & (codes == k)].mean()),
+                                 "opposed_corners": int((dots[keep & (codes == k)] < 0).sum()),
+                                 "unflat_corners": int((dots[keep & (codes == k)] < 0.999).sum()),
+                                 "corners": int((keep & (codes == k)).sum())}
+            for k in numpy.unique(codes[keep])}
     return out
 
 
@@ -226,7 +273,8 @@ def import_one(path):
         scene = bpy.context.scene
         report["scene_extras"] = custom_properties(scene)
         report["materials"] = sorted(m.name for m in bpy.data.materials)
-        report["images"] = len(bpy.data.images)
+        report["material_nodes"] = {m.name: material_report(m) for m in bpy.data.materials}
+        report["images"] = {im.name: image_report(im) for im in bpy.data.images}
         report["objects"] = {ob.name: object_report(ob) for ob in scene.objects}
         report["orphan_objects"] = len(bpy.data.objects) - len(scene.objects)
         report["meshes"] = {me.name: mesh_report(me) for me in bpy.data.meshes if me.users}

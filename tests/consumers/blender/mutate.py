@@ -3,7 +3,10 @@ check.py, which must then fail: proof that the checks see what they claim to.
 
 Each mutant changes one thing a real bug could change: a UV set dropped, an axis swapped, V
 flipped, pivot UV sets swapped, a triangle lost, a node moved, a UV set pointing at the wrong
-accessor, the colours dropped, the normals turned."""
+accessor, two primitives' materials swapped, a material's picture dropped, the normals turned.
+
+A mesh's primitives (one per material) share their vertex accessors: an attribute is changed
+on all of them, as a writer that lost or mixed up the attribute would."""
 
 import json
 import os
@@ -35,6 +38,11 @@ def primitive_of(doc, node_name):
     return doc["meshes"][node_named(doc, node_name)["mesh"]]["primitives"][0]
 
 
+def attributes_of(mesh):
+    """The attribute maps of all of a mesh's primitives (each a dict of its own in the JSON)."""
+    return [p["attributes"] for p in mesh["primitives"]]
+
+
 def rewrite_floats(g, binary, accessor_index, change):
     """Rewrites a float accessor's elements in place with change(tuple) -> tuple."""
     acc = g.json["accessors"][accessor_index]
@@ -52,7 +60,8 @@ def rewrite_floats(g, binary, accessor_index, change):
 
 
 def _frag_drop_uv(g, b):
-    del primitive_of(g.json, "piece_0003")["attributes"]["TEXCOORD_0"]
+    for attrs in attributes_of(g.json["meshes"][node_named(g.json, "piece_0003")["mesh"]]):
+        del attrs["TEXCOORD_0"]
 
 
 def _vat_drop_uv3(g, b):
@@ -86,12 +95,20 @@ def _city_move_tree(g, b):
 
 
 def _pivots_wrong_texel_set(g, b):
-    attrs = g.json["meshes"][0]["primitives"][0]["attributes"]
-    attrs["TEXCOORD_1"] = attrs["TEXCOORD_0"]
+    for attrs in attributes_of(g.json["meshes"][0]):
+        attrs["TEXCOORD_1"] = attrs["TEXCOORD_0"]
 
 
-def _species_drop_colour(g, b):
-    del g.json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"]
+def _species_swap_materials(g, b):
+    # Wood on the leaves and leaves on the wood: each triangle keeps its _MATERIAL_ID, but its
+    # primitive (and so its Blender material slot) has the other material.
+    prims = g.json["meshes"][0]["primitives"]
+    prims[0]["material"], prims[1]["material"] = prims[1]["material"], prims[0]["material"]
+
+
+def _city_drop_picture(g, b):
+    material = next(m for m in g.json["materials"] if m.get("name") == "asphalt")
+    del material["pbrMetallicRoughness"]["baseColorTexture"]
 
 
 def _frag_turn_normals(g, b):
@@ -111,7 +128,8 @@ MUTANTS = [
     ("city-triangle", "city/city.glb", "building_00001_lod0 one triangle short", _city_drop_triangle),
     ("city-tree", "city/city.glb", "tree_00000 with x and z of its translation swapped", _city_move_tree),
     ("pivots-texels", "pivots/city_pivots.glb", "TEXCOORD_1 pointing at TEXCOORD_0's accessor", _pivots_wrong_texel_set),
-    ("species-colour", None, "COLOR_0 dropped", _species_drop_colour),
+    ("species-materials", None, "the materials of its first two primitives swapped", _species_swap_materials),
+    ("city-picture", "city/city.glb", "asphalt without its base colour texture", _city_drop_picture),
 ]
 
 
