@@ -33,6 +33,7 @@ python3 "$here/check.py" cesium cesium.json world/plan.json
 mkdir -p flat
 ln -s "$work/world/hlod" flat/hlod
 ln -s "$work/world/tiles" flat/tiles
+ln -s "$work/world/textures" flat/textures
 cp world/plan.json flat/plan.json
 python3 - world/tileset.json flat/tileset.json <<'PY'
 import json, sys

@@ -99,7 +99,10 @@ done
 mutant() {
   local dir=$work/mutants/$1
   mkdir -p "$dir" || die "cannot make $dir"
-  if ! ln -s "$world/hlod" "$dir/hlod" || ! ln -s "$world/tiles" "$dir/tiles"; then die "cannot link the world into $dir"; fi
+  local part
+  for part in hlod tiles textures; do  # textures/: the materials' pictures the GLBs link to
+    ln -s "$world/$part" "$dir/$part" || die "cannot link the world into $dir"
+  done
   node -e '
     const fs = require("fs");
     const ts = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));

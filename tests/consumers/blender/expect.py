@@ -88,10 +88,12 @@ MATERIALS = ["asphalt", "paving", "brick", "concrete", "plaster", "glass", "meta
 
 
 def material_id(name):
-    """The material ID (0..15) a glTF material's name stands for ("brick_2": brick, 2), or None
-    ("default", or no name)."""
+    """The material ID (0..15) a glTF material's name stands for ("brick_2": brick, 2; "leaves": a
+    tree's ground cards, 13), or None ("default", or no name)."""
     if not name:
         return None
+    if name == "leaves":
+        return MATERIALS.index("ground")
     base, _, suffix = name.rpartition("_")
     if base and suffix.isdigit():
         name = base
@@ -258,7 +260,7 @@ class FileFigures:
         out = {}
         for m in self.doc.get("materials", []):
             pbr = m.get("pbrMetallicRoughness", {})
-            want = {"blend_method": "BLEND" if m.get("alphaMode") == "BLEND" else "OPAQUE",
+            want = {"blend_method": {"BLEND": "BLEND", "MASK": "CLIP"}.get(m.get("alphaMode"), "OPAQUE"),
                     "base_colour": list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0])), "texture": None}
             info = pbr.get("baseColorTexture")
             if info is not None:

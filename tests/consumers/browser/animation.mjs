@@ -18,8 +18,14 @@ async function play() {
   action.setLoop(THREE.LoopOnce, 1);
   action.clampWhenFinished = true;
   action.play();
+  // The glTF nodes that show a mesh: the mesh itself, or the group of its primitives (one per
+  // material) that three.js makes of a node whose mesh has several.
   const nodes = [];
-  gltf.scene.traverse((o) => { if (o.isMesh) nodes.push(o); });
+  gltf.scene.traverse((o) => {
+    const association = gltf.parser.associations.get(o);
+    if (association?.nodes !== undefined && (o.isMesh || o.children.some((c) => c.isMesh && !gltf.parser.associations.get(c)?.nodes)))
+      nodes.push(o);
+  });
   const poses = {};
   for (const node of nodes) poses[node.name] = [];
   for (let k = 0; k < frames; ++k) {

@@ -2,6 +2,7 @@
 
 import * as THREE from 'three';
 import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
+import { mergeGeometries } from 'three/addons/utils/BufferGeometryUtils.js';
 
 const query = new URLSearchParams(location.search);
 
@@ -28,12 +29,18 @@ export async function loadExr(url) {
   return nearest(await new EXRLoader().setDataType(THREE.FloatType).loadAsync(url));
 }
 
-// The one mesh of a loaded glTF, its geometry without an index (one entry per corner).
+// The one glTF mesh of a loaded glTF, its geometry without an index (one entry per corner):
+// three makes a Mesh of each primitive (ours: one per material), merged here in their order.
 export function onlyMesh(gltf, url) {
   const meshes = [];
   gltf.scene.traverse((o) => { if (o.isMesh) meshes.push(o); });
-  if (meshes.length !== 1) throw new Error(`${url}: ${meshes.length} meshes, expected 1`);
-  return meshes[0].geometry.index ? meshes[0].geometry.toNonIndexed() : meshes[0].geometry;
+  const sources = new Set(meshes.map((m) => gltf.parser.associations.get(m)?.meshes));
+  if (meshes.length === 0 || sources.size !== 1) throw new Error(`${url}: ${sources.size} glTF meshes, expected 1`);
+  const corners = meshes.map((m) => (m.geometry.index ? m.geometry.toNonIndexed() : m.geometry));
+  if (corners.length === 1) return corners[0];
+  const merged = mergeGeometries(corners);
+  if (!merged) throw new Error(`${url}: its primitives do not have the same attributes`);
+  return merged;
 }
 
 // An 8-bit PNG as the Labs Non-HDR import settings want it (sRGB off, alpha not transparency,
