@@ -461,25 +461,22 @@ std::vector<std::uint32_t> readTriangles(const tinygltf::Model& model, const tin
 
 // Our own files' triangle order (gltf.hpp): extras.triangle_primitive names, triangle by
 // triangle, the primitive that holds it; `mesh` holds the primitives' triangles one after the
-// other, `counts` how many each. Files without it keep the primitives' order.
+// other, `counts` how many each. Files without it, or whose extras no longer match their
+// primitives (another tool edited them), keep the primitives' order: the mesh is whole either way.
 void restoreTriangleOrder(const tinygltf::Model& model, const tinygltf::Mesh& gltfMesh, const std::vector<std::size_t>& counts,
                           Mesh& mesh, const std::string& source) {
     if (!gltfMesh.extras.IsObject() || !gltfMesh.extras.Has("triangle_primitive") || counts.size() < 2) return;
     const tinygltf::Value& index = gltfMesh.extras.Get("triangle_primitive");
-    if (!index.IsInt() || index.Get<int>() < 0 || std::size_t(index.Get<int>()) >= model.accessors.size())
-        throw InputError(format("{}: mesh '{}': extras.triangle_primitive is not an accessor", source, gltfMesh.name));
+    if (!index.IsInt() || index.Get<int>() < 0 || std::size_t(index.Get<int>()) >= model.accessors.size()) return;
     const std::vector<double> owner = readAccessor(model, index.Get<int>(), source, "triangle_primitive");
     std::vector<std::size_t> next(counts.size(), 0), left = counts;
     for (std::size_t k = 1; k < counts.size(); ++k) next[k] = next[k - 1] + counts[k - 1];
-    if (owner.size() != mesh.triangleCount())
-        throw InputError(format("{}: mesh '{}': extras.triangle_primitive has {} triangles, the primitives {}", source,
-                                gltfMesh.name, owner.size(), mesh.triangleCount()));
+    if (owner.size() != mesh.triangleCount()) return;
     std::vector<std::uint32_t> ordered;
     ordered.reserve(mesh.indices.size());
     for (double x : owner) {
         const auto k = std::size_t(x);
-        if (!(x >= 0.0 && k < counts.size()) || left[k] == 0)
-            throw InputError(format("{}: mesh '{}': extras.triangle_primitive does not match its primitives", source, gltfMesh.name));
+        if (!(x >= 0.0 && k < counts.size()) || left[k] == 0) return;
         --left[k];
         const std::size_t t = next[k]++;
         ordered.insert(ordered.end(), mesh.indices.begin() + std::ptrdiff_t(3 * t), mesh.indices.begin() + std::ptrdiff_t(3 * t + 3));

@@ -404,7 +404,10 @@ TEST(ImportFuzz, DamagedGltfTextLoadsSafelyOrIsRefused) {
         (o == Outcome::Loaded ? loaded : refused)++;
     }
     EXPECT_GT(refused, 300 / kShare);
-    EXPECT_GT(loaded, 50 / kShare);
+    // Since _MATERIAL_ID replaced COLOR_0, a damaged material ID is refused where a damaged colour
+    // was ignored, and the file has an accessor more per material: fewer damaged files load
+    // (under the sanitizers' quarter of the cases, 12 of 250).
+    EXPECT_GT(loaded, 40 / kShare);
 }
 
 }  // namespace
