@@ -264,11 +264,16 @@ bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int
     return true;  // geometry only: images are neither decoded nor needed
 }
 
+std::string lowerExtension(const fs::path& file) {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
 // tinygltf reads an external image's file before it hands it to skipImage: pictures are said
 // not to exist (a warning, not an error), so that a tile does not read its world's textures.
 bool fileExistsUnlessPicture(const std::string& file, void* user) {
-    std::string ext = fs::path(file).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowerExtension(file);
     for (const char* picture : {".png", ".jpg", ".jpeg", ".webp", ".ktx2"})
         if (ext == picture) return false;
     return tinygltf::FileExists(file, user);
@@ -652,12 +657,6 @@ std::vector<MeshNode> loadGltfNodes(const fs::path& file, const std::string& nam
     }
     for (int root : roots) addNode(model, root, glm::mat4(1.0f), -1, nodes, visited, name);
     return nodes;
-}
-
-std::string lowerExtension(const fs::path& file) {
-    std::string ext = file.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
 }
 
 void checkReadable(const fs::path& file, const std::string& name) {
